@@ -1,0 +1,42 @@
+//! Geometric primitives and the kernels of the paper's operation model (§6).
+//!
+//! | file | what | paper |
+//! |---|---|---|
+//! | [`sphere`] | [`Sphere`] and the sphere-sphere test (10 operations) | §2, §6 |
+//! | [`triangle`] | [`Triangle`] | |
+//! | [`plane_sphere`] | Algorithm 1, the plane-sphere test (30 operations) | §5 |
+//! | [`tri_tri`] | Tropp et al. triangle-triangle test (96 operations) | §3 narrow phase |
+//! | [`exact`] | exact triangle-triangle oracle on adaptive predicates | (reference) |
+//! | [`enclosing`] | minimal enclosing spheres; the paper's sphere of spheres | §3 |
+//!
+//! Storage is `f32` (as a real-time engine would keep it); kernels that decide
+//! contact widen to `f64` internally, where products of `f32` inputs are exact.
+
+pub mod enclosing;
+pub mod exact;
+pub mod plane_sphere;
+pub mod sphere;
+pub mod tri_tri;
+pub mod triangle;
+
+pub use sphere::Sphere;
+pub use triangle::Triangle;
+
+/// Scalar used for stored geometry.
+pub type Real = f32;
+/// A point in model or world space.
+pub type Point = nalgebra::Point3<Real>;
+/// A displacement.
+pub type Vector = nalgebra::Vector3<Real>;
+
+/// Basic operations (additions and multiplications) charged per test in the
+/// paper's cost model (§6). The "Operations" column of Tables 2–3 is
+/// `10·SS + 96·TT + 30·PS`.
+pub mod ops {
+    /// Sphere-sphere overlap test.
+    pub const SPHERE_SPHERE: u64 = 10;
+    /// Tropp et al. triangle-triangle test.
+    pub const TRI_TRI: u64 = 96;
+    /// Plane-sphere test of Algorithm 1.
+    pub const PLANE_SPHERE: u64 = 30;
+}

@@ -1,0 +1,69 @@
+//! Bounding sphere and the sphere-sphere overlap test.
+
+use super::{Point, Real};
+
+/// A closed ball: every point within `radius` of `center`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub center: Point,
+    pub radius: Real,
+}
+
+impl Sphere {
+    pub const fn new(center: Point, radius: Real) -> Self {
+        Self { center, radius }
+    }
+
+    /// Whether two closed balls share a point.
+    ///
+    /// Operation count (paper §2, §6): 10 — three subtractions, three
+    /// multiplications and two additions for the squared distance, one addition
+    /// and one multiplication for the squared sum of radii.
+    #[inline]
+    pub fn overlaps(&self, other: &Sphere) -> bool {
+        let d = self.center - other.center;
+        let r = self.radius + other.radius;
+        d.norm_squared() <= r * r
+    }
+
+    /// Whether `p` lies in the ball, allowing `tolerance` beyond the radius.
+    #[inline]
+    pub fn contains_point(&self, p: &Point, tolerance: Real) -> bool {
+        (p - self.center).norm() <= self.radius + tolerance
+    }
+
+    /// Whether `other` lies in this ball, allowing `tolerance` beyond the radius.
+    #[inline]
+    pub fn contains_sphere(&self, other: &Sphere, tolerance: Real) -> bool {
+        (other.center - self.center).norm() + other.radius <= self.radius + tolerance
+    }
+
+    /// Whether centre and radius are finite and the radius is not negative.
+    pub fn is_valid(&self) -> bool {
+        self.center.iter().all(|c| c.is_finite()) && self.radius.is_finite() && self.radius >= 0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn touching_spheres_overlap_and_separated_do_not() {
+        let a = Sphere::new(Point::new(0.0, 0.0, 0.0), 1.0);
+        let b = Sphere::new(Point::new(2.0, 0.0, 0.0), 1.0);
+        let c = Sphere::new(Point::new(2.0 + 1e-3, 0.0, 0.0), 1.0);
+        assert!(a.overlaps(&b));
+        assert!(!a.overlaps(&c));
+        assert!(c.overlaps(&b));
+    }
+
+    #[test]
+    fn containment() {
+        let a = Sphere::new(Point::origin(), 2.0);
+        assert!(a.contains_sphere(&Sphere::new(Point::new(1.0, 0.0, 0.0), 1.0), 0.0));
+        assert!(!a.contains_sphere(&Sphere::new(Point::new(1.1, 0.0, 0.0), 1.0), 0.0));
+        assert!(a.contains_point(&Point::new(0.0, 2.0, 0.0), 0.0));
+    }
+}

@@ -1,0 +1,19 @@
+//! # cornertree
+//!
+//! A research workbench for real-time collision detection (CD) of animated,
+//! skinned virtual characters with sphere trees, after *Real time accurate
+//! collision detection for virtual characters* (the paper).
+//!
+//! | module | what | paper |
+//! |---|---|---|
+//! | [`geometry`] | points, spheres, triangles; the tests of the operation model; enclosing spheres; exact oracle | §2, §3, §5, §6 |
+//! | [`mesh`] | indexed triangle meshes; edge de-duplication | §4 |
+//! | [`sphere_tree`] | sphere-tree build, n-ary collapse, validation, simultaneous traversal | §3 |
+//! | [`io`] | glTF loading | |
+//!
+//! `docs/architecture.md` maps every section of the paper to the code.
+
+pub mod geometry;
+pub mod io;
+pub mod mesh;
+pub mod sphere_tree;

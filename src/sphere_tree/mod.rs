@@ -1,0 +1,1 @@
+//! Sphere trees (paper §3). STUB.
