@@ -28,21 +28,35 @@ impl Sphere {
     }
 
     /// Whether `p` lies in the ball, allowing `tolerance` beyond the radius.
+    /// Measured in `f64`, so `f32` rounding never moves a point across the surface.
     #[inline]
     pub fn contains_point(&self, p: &Point, tolerance: Real) -> bool {
-        (p - self.center).norm() <= self.radius + tolerance
+        distance_f64(p, &self.center) <= self.radius as f64 + tolerance as f64
     }
 
-    /// Whether `other` lies in this ball, allowing `tolerance` beyond the radius.
+    /// Whether `other` lies in this ball, allowing `tolerance` beyond the radius
+    /// (measured in `f64`).
     #[inline]
     pub fn contains_sphere(&self, other: &Sphere, tolerance: Real) -> bool {
-        (other.center - self.center).norm() + other.radius <= self.radius + tolerance
+        distance_f64(&other.center, &self.center) + other.radius as f64
+            <= self.radius as f64 + tolerance as f64
     }
 
     /// Whether centre and radius are finite and the radius is not negative.
     pub fn is_valid(&self) -> bool {
         self.center.iter().all(|c| c.is_finite()) && self.radius.is_finite() && self.radius >= 0.0
     }
+}
+
+/// Euclidean distance computed in `f64`.
+#[inline]
+pub(crate) fn distance_f64(p: &Point, q: &Point) -> f64 {
+    let d = nalgebra::Vector3::new(
+        p.x as f64 - q.x as f64,
+        p.y as f64 - q.y as f64,
+        p.z as f64 - q.z as f64,
+    );
+    d.norm()
 }
 
 #[cfg(test)]

@@ -1,1 +1,25 @@
-//! Sphere trees (paper §3). STUB.
+//! Sphere trees (paper §3, "Collision detection").
+//!
+//! | file | what |
+//! |---|---|
+//! | [`node`] | [`SphereTree`], [`Node`], [`NodeId`]: compact storage, children after parents |
+//! | [`build`] | top-down binary split, then collapse to an n-ary tree |
+//! | [`validate`] | the public validator tests call after every step |
+//! | [`traverse`] | simultaneous traversal of two trees with a reusable [`Workspace`] |
+//!
+//! Invariants (checked by [`SphereTree::validate`]): node 0 is the root; the
+//! children of a node are contiguous and stored after it, level by level, so a
+//! reverse sweep visits children before parents; a leaf holds one primitive
+//! (a triangle) which lies inside its sphere and the spheres of all its
+//! ancestors; a built tree is also *nested* (each child sphere inside its
+//! parent), which makes pruning exact with respect to leaf spheres.
+
+pub mod build;
+pub mod node;
+pub mod traverse;
+pub mod validate;
+
+pub use build::{BuildParams, build_tree};
+pub use node::{Node, NodeId, SphereTree};
+pub use traverse::{Hierarchy, TraversalStats, Workspace, traverse};
+pub use validate::TreeError;

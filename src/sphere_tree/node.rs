@@ -1,0 +1,140 @@
+//! Compact sphere-tree storage.
+
+use std::ops::Range;
+
+use crate::geometry::Sphere;
+
+/// Index of a node in its tree; the root is `NodeId(0)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct NodeId(pub u32);
+
+impl NodeId {
+    pub const ROOT: NodeId = NodeId(0);
+
+    #[inline]
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+/// One sphere of the hierarchy: 24 bytes.
+///
+/// An inner node's children are `first .. first + count`; a leaf has
+/// `count == 0` and `first` is the primitive it bounds (a triangle index).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Node {
+    pub sphere: Sphere,
+    first: u32,
+    count: u32,
+}
+
+impl Node {
+    pub fn inner(sphere: Sphere, first_child: NodeId, child_count: u32) -> Self {
+        debug_assert!(child_count > 0);
+        Self { sphere, first: first_child.0, count: child_count }
+    }
+
+    pub fn leaf(sphere: Sphere, primitive: u32) -> Self {
+        Self { sphere, first: primitive, count: 0 }
+    }
+
+    #[inline]
+    pub fn is_leaf(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The primitive of a leaf.
+    #[inline]
+    pub fn primitive(&self) -> Option<u32> {
+        self.is_leaf().then_some(self.first)
+    }
+
+    /// Child ids (empty for a leaf).
+    #[inline]
+    pub fn children(&self) -> Range<u32> {
+        if self.is_leaf() { 0..0 } else { self.first..self.first + self.count }
+    }
+
+    #[inline]
+    pub fn child_count(&self) -> u32 {
+        self.count
+    }
+}
+
+/// A sphere tree in breadth-first order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SphereTree {
+    pub(crate) nodes: Vec<Node>,
+}
+
+impl SphereTree {
+    /// Wraps nodes laid out as the module invariants require (see
+    /// [`SphereTree::validate`]).
+    pub fn from_nodes(nodes: Vec<Node>) -> Self {
+        Self { nodes }
+    }
+
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// Spheres may be rewritten in place (refit); topology may not.
+    pub fn spheres_mut(&mut self) -> impl Iterator<Item = &mut Sphere> {
+        self.nodes.iter_mut().map(|n| &mut n.sphere)
+    }
+
+    #[inline]
+    pub fn node(&self, id: NodeId) -> &Node {
+        &self.nodes[id.index()]
+    }
+
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    pub fn leaf_count(&self) -> usize {
+        self.nodes.iter().filter(|n| n.is_leaf()).count()
+    }
+
+    /// Bytes held by the hierarchy's nodes (the "Data" of the paper's Tables 2–3).
+    pub fn bytes(&self) -> usize {
+        self.nodes.len() * std::mem::size_of::<Node>()
+    }
+
+    /// Number of nodes on each level, root first.
+    pub fn nodes_per_level(&self) -> Vec<usize> {
+        let mut counts = Vec::new();
+        let mut level = vec![0u32; self.nodes.len()];
+        for (i, n) in self.nodes.iter().enumerate() {
+            let l = level[i] as usize;
+            if counts.len() <= l {
+                counts.resize(l + 1, 0);
+            }
+            counts[l] += 1;
+            for c in n.children() {
+                level[c as usize] = level[i] + 1;
+            }
+        }
+        counts
+    }
+
+    /// Number of levels (a lone leaf has depth 1; an empty tree 0).
+    pub fn depth(&self) -> usize {
+        self.nodes_per_level().len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_is_compact() {
+        assert_eq!(std::mem::size_of::<Node>(), 24);
+    }
+}

@@ -1,0 +1,119 @@
+//! Simultaneous traversal of two sphere trees (paper §3, "Collision detection").
+//!
+//! Pairs of overlapping spheres are kept on an explicit stack held in a
+//! reusable [`Workspace`], so a query allocates nothing once the stack has
+//! grown to its working size. At a pair of inner nodes the one with the larger
+//! radius is opened (ties open `a`); a leaf is never opened. Every sphere-sphere
+//! test is counted; pairs of overlapping leaves go to the narrow-phase callback.
+
+use crate::geometry::Sphere;
+
+use super::node::{Node, NodeId, SphereTree};
+
+/// A sphere tree as traversal sees it: fixed topology, and each node's sphere
+/// for the current frame. A refitting hierarchy computes a sphere the first time
+/// it is asked for it in a frame (on demand, §3 "Sphere update").
+pub trait Hierarchy {
+    fn tree(&self) -> &SphereTree;
+    fn sphere(&mut self, id: NodeId) -> Sphere;
+}
+
+impl Hierarchy for SphereTree {
+    #[inline]
+    fn tree(&self) -> &SphereTree {
+        self
+    }
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> Sphere {
+        self.nodes[id.index()].sphere
+    }
+}
+
+/// Scratch space kept between queries.
+#[derive(Clone, Debug, Default)]
+pub struct Workspace {
+    stack: Vec<(NodeId, NodeId)>,
+}
+
+impl Workspace {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Current stack capacity (for allocation tests).
+    pub fn capacity(&self) -> usize {
+        self.stack.capacity()
+    }
+}
+
+/// Counters of one traversal.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TraversalStats {
+    /// Sphere-sphere tests made (10 operations each in the paper's model).
+    pub sphere_tests: u64,
+    /// Overlapping leaf pairs handed to the narrow phase.
+    pub leaf_pairs: u64,
+    /// Deepest the stack went.
+    pub max_stack: usize,
+}
+
+/// Two overlapping leaves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct LeafPair {
+    pub leaf_a: NodeId,
+    pub leaf_b: NodeId,
+    /// The primitives the leaves bound (triangle indices).
+    pub primitive_a: u32,
+    pub primitive_b: u32,
+}
+
+/// Walks `a` and `b` together from their roots; calls `on_leaf_pair` for every
+/// pair of overlapping leaves reached. Empty trees give no tests.
+pub fn traverse<A, B, F>(a: &mut A, b: &mut B, ws: &mut Workspace, mut on_leaf_pair: F) -> TraversalStats
+where
+    A: Hierarchy + ?Sized,
+    B: Hierarchy + ?Sized,
+    F: FnMut(LeafPair),
+{
+    let mut stats = TraversalStats::default();
+    if a.tree().is_empty() || b.tree().is_empty() {
+        return stats;
+    }
+    ws.stack.clear();
+    stats.sphere_tests += 1;
+    if a.sphere(NodeId::ROOT).overlaps(&b.sphere(NodeId::ROOT)) {
+        ws.stack.push((NodeId::ROOT, NodeId::ROOT));
+    }
+    while let Some((i, j)) = ws.stack.pop() {
+        let na: Node = *a.tree().node(i);
+        let nb: Node = *b.tree().node(j);
+        match (na.primitive(), nb.primitive()) {
+            (Some(pa), Some(pb)) => {
+                stats.leaf_pairs += 1;
+                on_leaf_pair(LeafPair { leaf_a: i, leaf_b: j, primitive_a: pa, primitive_b: pb });
+            }
+            _ => {
+                let sa = a.sphere(i);
+                let sb = b.sphere(j);
+                let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
+                if open_a {
+                    for c in na.children() {
+                        stats.sphere_tests += 1;
+                        if a.sphere(NodeId(c)).overlaps(&sb) {
+                            ws.stack.push((NodeId(c), j));
+                        }
+                    }
+                } else {
+                    for c in nb.children() {
+                        stats.sphere_tests += 1;
+                        if sa.overlaps(&b.sphere(NodeId(c))) {
+                            ws.stack.push((i, NodeId(c)));
+                        }
+                    }
+                }
+                stats.max_stack = stats.max_stack.max(ws.stack.len());
+            }
+        }
+    }
+    stats
+}

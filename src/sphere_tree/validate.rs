@@ -1,0 +1,116 @@
+//! The sphere-tree validator: tests call it after every build and refit.
+
+use crate::mesh::{TriMesh, TriangleId};
+
+use super::node::SphereTree;
+
+/// A broken invariant, naming the node.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum TreeError {
+    #[error("node {node}: sphere is not finite or has a negative radius")]
+    InvalidSphere { node: u32 },
+    #[error("node {node}: children {first}..{end} are not all after it and inside the tree")]
+    BadChildren { node: u32, first: u32, end: u32 },
+    #[error("node {node} is reached from more than one parent, or never")]
+    BadParent { node: u32 },
+    #[error("leaf {node}: primitive {primitive} is not a triangle of the mesh")]
+    BadPrimitive { node: u32, primitive: u32 },
+    #[error("triangle {triangle} is in {count} leaves, expected exactly one")]
+    TriangleCount { triangle: u32, count: u32 },
+    #[error("leaf {leaf}: vertex {corner} of triangle {triangle} lies {excess} outside the sphere of node {node}")]
+    VertexOutside { leaf: u32, triangle: u32, corner: usize, node: u32, excess: f64 },
+    #[error("node {child} sticks out of its parent {parent} by {excess}")]
+    NotNested { parent: u32, child: u32, excess: f64 },
+}
+
+/// What [`SphereTree::validate`] checks beyond the layout.
+#[derive(Clone, Copy, Debug)]
+pub struct Checks<'a> {
+    /// Each triangle of this list must be in exactly one leaf.
+    pub triangles: Option<&'a [TriangleId]>,
+    /// Also require each child sphere inside its parent (true for built trees).
+    pub nested: bool,
+    /// Slack allowed beyond a radius, in model units.
+    pub tolerance: f64,
+}
+
+impl SphereTree {
+    /// Checks layout, leaf containment (every leaf triangle inside its sphere and
+    /// the spheres of all its ancestors) and, as asked, coverage and nesting.
+    pub fn validate(&self, mesh: &TriMesh, checks: Checks<'_>) -> Result<(), TreeError> {
+        let n = self.nodes.len();
+        let mut parent = vec![u32::MAX; n];
+        for (i, node) in self.nodes.iter().enumerate() {
+            if !node.sphere.is_valid() {
+                return Err(TreeError::InvalidSphere { node: i as u32 });
+            }
+            let ch = node.children();
+            if !ch.is_empty() && (ch.start as usize <= i || ch.end as usize > n) {
+                return Err(TreeError::BadChildren { node: i as u32, first: ch.start, end: ch.end });
+            }
+            for c in ch {
+                if parent[c as usize] != u32::MAX {
+                    return Err(TreeError::BadParent { node: c });
+                }
+                parent[c as usize] = i as u32;
+            }
+            if let Some(p) = node.primitive()
+                && p as usize >= mesh.triangle_count()
+            {
+                return Err(TreeError::BadPrimitive { node: i as u32, primitive: p });
+            }
+        }
+        if let Some(orphan) = (1..n).find(|&i| parent[i] == u32::MAX) {
+            return Err(TreeError::BadParent { node: orphan as u32 });
+        }
+        if checks.nested {
+            for c in 1..n {
+                let (p, child) = (&self.nodes[parent[c] as usize], &self.nodes[c]);
+                if !p.sphere.contains_sphere(&child.sphere, checks.tolerance as f32) {
+                    let d = crate::geometry::sphere::distance_f64(&p.sphere.center, &child.sphere.center);
+                    let excess = d + child.sphere.radius as f64 - p.sphere.radius as f64;
+                    return Err(TreeError::NotNested { parent: parent[c], child: c as u32, excess });
+                }
+            }
+        }
+        // Leaf triangles inside the leaf and every ancestor.
+        for (i, node) in self.nodes.iter().enumerate() {
+            let Some(t) = node.primitive() else { continue };
+            let tri = mesh.triangle(TriangleId(t));
+            let mut a = i as u32;
+            loop {
+                let s = self.nodes[a as usize].sphere;
+                for (corner, v) in tri.vertices().iter().enumerate() {
+                    if !s.contains_point(v, checks.tolerance as f32) {
+                        let d = crate::geometry::sphere::distance_f64(v, &s.center);
+                        return Err(TreeError::VertexOutside {
+                            leaf: i as u32,
+                            triangle: t,
+                            corner,
+                            node: a,
+                            excess: d - s.radius as f64,
+                        });
+                    }
+                }
+                if a == 0 {
+                    break;
+                }
+                a = parent[a as usize];
+            }
+        }
+        if let Some(list) = checks.triangles {
+            let mut count = vec![0u32; mesh.triangle_count()];
+            for p in self.nodes.iter().filter_map(|n| n.primitive()) {
+                count[p as usize] += 1;
+            }
+            let mut expected = vec![0u32; mesh.triangle_count()];
+            for t in list {
+                expected[t.index()] += 1;
+            }
+            if let Some(t) = (0..count.len()).find(|&t| count[t] != expected[t].min(1)) {
+                return Err(TreeError::TriangleCount { triangle: t as u32, count: count[t] });
+            }
+        }
+        Ok(())
+    }
+}
