@@ -10,10 +10,12 @@
 //! | [`mesh`] | indexed triangle meshes; edge de-duplication | §4 |
 //! | [`sphere_tree`] | sphere-tree build, n-ary collapse, validation, simultaneous traversal | §3 |
 //! | [`io`] | glTF loading | |
+//! | [`report`] | what the commands print (text and JSON) | §6 |
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
 
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod report;
 pub mod sphere_tree;

@@ -1,0 +1,141 @@
+//! `cornertree inspect` end to end: real assets, JSON keys, and bad input.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_cornertree"))
+}
+
+fn asset(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(name)
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("cornertree-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn inspect_json(path: &Path) -> serde_json::Value {
+    let out = bin().arg("inspect").arg(path).arg("--json").output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+}
+
+/// A failing run: non-zero exit, one line on stderr naming the file, no panic.
+fn assert_clean_failure(out: &Output, file: &str, words: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "expected failure, got success: {err}");
+    assert_eq!(out.status.code(), Some(1), "exit code; stderr: {err}");
+    assert!(!err.contains("panicked"), "panic: {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+    assert!(err.contains(file), "error does not name {file}: {err}");
+    for w in words {
+        assert!(err.to_lowercase().contains(&w.to_lowercase()), "error lacks {w:?}: {err}");
+    }
+}
+
+#[test]
+fn inspect_real_assets() {
+    for (name, triangles) in [("CesiumMan.glb", 4672), ("BrainStem.glb", 61666)] {
+        let v = inspect_json(&asset(name));
+        assert_eq!(v["triangles"], triangles, "{name}");
+        let t = v["triangles"].as_u64().unwrap();
+        let kept = v["triangles_after_dedup"].as_u64().unwrap();
+        assert!(kept < t && kept * 2 >= t / 2, "{name}: {kept} of {t} kept");
+        let levels: Vec<u64> = v["tree_levels"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap()).collect();
+        assert_eq!(levels[0], 1, "one root");
+        assert_eq!(levels.iter().sum::<u64>(), v["tree_nodes"].as_u64().unwrap());
+        assert!(v["tree_bytes"].as_u64().unwrap() >= 24 * kept);
+        assert!(v["vertices"].as_u64().unwrap() > 0);
+        assert_eq!(v["valid"], true);
+    }
+    // Text form works too.
+    let out = bin().arg("inspect").arg(asset("CesiumMan.glb")).output().unwrap();
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("nodes per level"));
+}
+
+#[test]
+fn no_dedup_keeps_every_triangle() {
+    let out = bin().arg("inspect").arg(asset("CesiumMan.glb")).args(["--json", "--no-dedup"]).output().unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["triangles_after_dedup"], v["triangles"]);
+}
+
+#[test]
+fn missing_file() {
+    let out = bin().args(["inspect", "no/such/file.glb"]).output().unwrap();
+    assert_clean_failure(&out, "no/such/file.glb", &["no such file"]);
+}
+
+#[test]
+fn not_gltf() {
+    let p = scratch("not-a-model.glb");
+    std::fs::write(&p, b"this is plain text, not a model\n").unwrap();
+    let out = bin().arg("inspect").arg(&p).output().unwrap();
+    assert_clean_failure(&out, "not-a-model.glb", &[]);
+}
+
+/// A glTF with one primitive of the given mode over three positions.
+fn one_primitive_gltf(name: &str, positions: [[f32; 3]; 3], mode: u32) -> PathBuf {
+    let mut bytes = Vec::new();
+    for p in positions {
+        for c in p {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    let b64 = base64_encode(&bytes);
+    let (min, max) = ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]);
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"mode":{mode}}}]}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":{min:?},"max":{max:?}}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}}],
+"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{b64}"}}]}}"#
+    );
+    let p = scratch(name);
+    std::fs::write(&p, json).unwrap();
+    p
+}
+
+fn base64_encode(data: &[u8]) -> String {
+    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::new();
+    for chunk in data.chunks(3) {
+        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+        for i in 0..4 {
+            if i <= chunk.len() {
+                s.push(T[(n >> (18 - 6 * i) & 63) as usize] as char);
+            } else {
+                s.push('=');
+            }
+        }
+    }
+    s
+}
+
+#[test]
+fn a_valid_minimal_file_inspects() {
+    let p = one_primitive_gltf("ok.gltf", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], 4);
+    let v = inspect_json(&p);
+    assert_eq!(v["triangles"], 1);
+    assert_eq!(v["tree_levels"], serde_json::json!([1]));
+}
+
+#[test]
+fn no_triangles() {
+    // Mode 1 = LINES.
+    let p = one_primitive_gltf("lines.gltf", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], 1);
+    let out = bin().arg("inspect").arg(&p).output().unwrap();
+    assert_clean_failure(&out, "lines.gltf", &["no triangles"]);
+}
+
+#[test]
+fn nan_position() {
+    let p = one_primitive_gltf("nan.gltf", [[0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]], 4);
+    let out = bin().arg("inspect").arg(&p).output().unwrap();
+    assert_clean_failure(&out, "nan.gltf", &["vertex 1"]);
+}
