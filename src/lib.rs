@@ -9,11 +9,13 @@
 //! | [`geometry`] | points, spheres, triangles; the tests of the operation model; enclosing spheres; exact oracle | §2, §3, §5, §6 |
 //! | [`mesh`] | indexed triangle meshes; edge de-duplication | §4 |
 //! | [`sphere_tree`] | sphere-tree build, n-ary collapse, validation, simultaneous traversal | §3 |
+//! | [`character`] | skeletons, clips, skinning models | §3 |
 //! | [`io`] | glTF loading | |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
 
+pub mod character;
 pub mod geometry;
 pub mod io;
 pub mod mesh;

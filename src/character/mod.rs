@@ -1,0 +1,18 @@
+//! Animated characters (paper §3, "Virtual Character Animation").
+//!
+//! | file | what | paper |
+//! |---|---|---|
+//! | [`transform`] | [`Trs`]: translation, rotation, scale | |
+//! | [`skeleton`] | [`Skeleton`]: joints, parents before children, rest pose, inverse bind matrices | §3 |
+//! | [`clip`] | [`Clip`]: keyframed channels (STEP, LINEAR, CUBICSPLINE) sampled at any time | |
+//! | [`skinning`] | glTF linear blend skinning and the paper's one-joint model, with the conversion | §3 |
+
+pub mod clip;
+pub mod skeleton;
+pub mod skinning;
+pub mod transform;
+
+pub use clip::{Channel, ChannelValues, Clip, Interpolation};
+pub use skeleton::{Joint, JointId, Skeleton, SkeletonError};
+pub use skinning::{Influences, PaperBinding, SkinningModel};
+pub use transform::Trs;

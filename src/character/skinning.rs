@@ -1,0 +1,329 @@
+//! Skinning: bind-space vertices to posed world positions.
+//!
+//! Two models run on the same asset:
+//!
+//! - **glTF linear blend skinning**: `v' = Σ_k w_k · M_{j_k} · v` over up to four
+//!   influences, with `M_j = world_j · inverse_bind_j` (skin matrices).
+//! - **The paper's model** (§3): each vertex belongs to one joint `a` with a
+//!   weight `w` and follows its parent chain and a linear blend of identity and
+//!   `a`'s local transform: `C_v = (Π C_i) · ((1 − w)·I + w·C_a)`. In bind space
+//!   this is `v' = (1 − w)·M_p·v + w·M_a·v` with `p` the parent of `a`: linear in
+//!   `w`, which is what makes the min/max-weight sphere refit conservative. For a
+//!   root joint the parent frame is the skeleton's base.
+//!
+//! [`PaperBinding::from_influences`] converts glTF weights to the paper's model.
+
+use nalgebra::Matrix4;
+
+use crate::geometry::Point;
+
+use super::{JointId, Skeleton};
+
+/// Which skinning model animates the mesh.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SkinningModel {
+    /// glTF linear blend skinning, up to four influences.
+    Linear,
+    /// The paper's one-joint model (§3).
+    Paper,
+}
+
+/// Why per-vertex skinning data is unusable. Vertex indices are the mesh's.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum SkinError {
+    #[error("{what} has {got} entries for {vertices} vertices")]
+    Length { what: &'static str, got: usize, vertices: usize },
+    #[error("vertex {vertex}: joint index {joint} is out of range (the skin has {joints} joints)")]
+    JointOutOfRange { vertex: usize, joint: usize, joints: usize },
+    #[error("vertex {vertex}: weights sum to {sum}, not a positive finite number")]
+    BadWeights { vertex: usize, sum: f32 },
+}
+
+/// Up to four (joint, weight) influences per vertex; weights are normalised to
+/// sum to one, and an influence of weight zero points at joint 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Influences {
+    joints: Vec<[JointId; 4]>,
+    weights: Vec<[f32; 4]>,
+}
+
+impl Influences {
+    /// Validates and normalises. A joint index only matters (and is only
+    /// checked) where its weight is non-zero, as glTF allows.
+    pub fn new(joints: Vec<[u16; 4]>, weights: Vec<[f32; 4]>, joint_count: usize) -> Result<Self, SkinError> {
+        if joints.len() != weights.len() {
+            return Err(SkinError::Length { what: "JOINTS_0", got: joints.len(), vertices: weights.len() });
+        }
+        let mut out_j = Vec::with_capacity(joints.len());
+        let mut out_w = Vec::with_capacity(joints.len());
+        for (vertex, (j, w)) in joints.iter().zip(&weights).enumerate() {
+            let sum: f32 = w.iter().sum();
+            if !(sum.is_finite() && sum > 0.0) || w.iter().any(|x| !x.is_finite() || *x < 0.0) {
+                return Err(SkinError::BadWeights { vertex, sum });
+            }
+            let mut jj = [JointId(0); 4];
+            let mut ww = [0.0; 4];
+            for k in 0..4 {
+                if w[k] > 0.0 {
+                    if j[k] as usize >= joint_count {
+                        return Err(SkinError::JointOutOfRange { vertex, joint: j[k] as usize, joints: joint_count });
+                    }
+                    jj[k] = JointId(j[k]);
+                    ww[k] = w[k] / sum;
+                }
+            }
+            out_j.push(jj);
+            out_w.push(ww);
+        }
+        Ok(Self { joints: out_j, weights: out_w })
+    }
+
+    /// Every vertex bound rigidly to one joint.
+    pub fn rigid(joints: &[JointId]) -> Self {
+        Self {
+            joints: joints.iter().map(|&j| [j, JointId(0), JointId(0), JointId(0)]).collect(),
+            weights: joints.iter().map(|_| [1.0, 0.0, 0.0, 0.0]).collect(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.joints.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.joints.is_empty()
+    }
+
+    /// Non-zero influences of vertex `v`.
+    pub fn of(&self, v: usize) -> impl Iterator<Item = (JointId, f32)> + '_ {
+        self.joints[v].iter().zip(&self.weights[v]).filter(|(_, w)| **w > 0.0).map(|(j, w)| (*j, *w))
+    }
+
+    /// The joint with the largest weight on vertex `v`.
+    pub fn dominant(&self, v: usize) -> JointId {
+        let w = &self.weights[v];
+        let k = (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b]).then(b.cmp(&a))).unwrap();
+        self.joints[v][k]
+    }
+
+    /// Linear blend skinning of every vertex.
+    pub fn skin(&self, bind: &[Point], skin: &[Matrix4<f32>], out: &mut [Point]) {
+        for (v, p) in bind.iter().enumerate() {
+            out[v] = self.skin_vertex(v, p, skin);
+        }
+    }
+
+    #[inline]
+    pub fn skin_vertex(&self, v: usize, p: &Point, skin: &[Matrix4<f32>]) -> Point {
+        let h = p.to_homogeneous();
+        let mut acc = nalgebra::Vector4::zeros();
+        for k in 0..4 {
+            let w = self.weights[v][k];
+            if w > 0.0 {
+                acc += skin[self.joints[v][k].index()] * h * w;
+            }
+        }
+        Point::new(acc.x, acc.y, acc.z)
+    }
+}
+
+/// The paper's model: one joint and one weight per vertex (§3).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PaperBinding {
+    joint: Vec<JointId>,
+    weight: Vec<f32>,
+}
+
+impl PaperBinding {
+    pub fn new(joint: Vec<JointId>, weight: Vec<f32>, skeleton: &Skeleton) -> Result<Self, SkinError> {
+        if joint.len() != weight.len() {
+            return Err(SkinError::Length { what: "paper weights", got: weight.len(), vertices: joint.len() });
+        }
+        for (vertex, (j, w)) in joint.iter().zip(&weight).enumerate() {
+            if j.index() >= skeleton.len() {
+                return Err(SkinError::JointOutOfRange { vertex, joint: j.index(), joints: skeleton.len() });
+            }
+            if !(w.is_finite() && (0.0..=1.0).contains(w)) {
+                return Err(SkinError::BadWeights { vertex, sum: *w });
+            }
+        }
+        Ok(Self { joint, weight })
+    }
+
+    /// From glTF weights: the vertex goes to its dominant joint `a`; when the
+    /// runner-up influence is `a`'s parent, `w = w_a / (w_a + w_parent)`; when
+    /// the runner-up is a child `c` of `a`, the vertex goes to `c` with
+    /// `w = w_c / (w_a + w_c)`; otherwise `w = 1` (rigid). Root-joint vertices
+    /// get `w = 1`.
+    pub fn from_influences(inf: &Influences, skeleton: &Skeleton) -> Self {
+        let mut joint = Vec::with_capacity(inf.len());
+        let mut weight = Vec::with_capacity(inf.len());
+        for v in 0..inf.len() {
+            let mut top: [(JointId, f32); 2] = [(JointId(0), 0.0); 2];
+            for (j, w) in inf.of(v) {
+                if w > top[0].1 {
+                    top[1] = top[0];
+                    top[0] = (j, w);
+                } else if w > top[1].1 {
+                    top[1] = (j, w);
+                }
+            }
+            let [(j1, w1), (j2, w2)] = top;
+            let (a, w) = if w2 > 0.0 && skeleton.parent(j1) == Some(j2) {
+                (j1, w1 / (w1 + w2))
+            } else if w2 > 0.0 && skeleton.parent(j2) == Some(j1) {
+                (j2, w2 / (w1 + w2))
+            } else {
+                (j1, 1.0)
+            };
+            let w = if skeleton.parent(a).is_none() { 1.0 } else { w };
+            joint.push(a);
+            weight.push(w);
+        }
+        Self { joint, weight }
+    }
+
+    pub fn len(&self) -> usize {
+        self.joint.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.joint.is_empty()
+    }
+
+    pub fn joint(&self, v: usize) -> JointId {
+        self.joint[v]
+    }
+
+    pub fn weight(&self, v: usize) -> f32 {
+        self.weight[v]
+    }
+
+    /// The bind-space matrix a vertex of joint `a` blends from at `w = 0`: the
+    /// parent's skin matrix, or the skeleton base for a root joint.
+    #[inline]
+    pub fn parent_matrix(skeleton: &Skeleton, skin: &[Matrix4<f32>], a: JointId) -> Matrix4<f32> {
+        match skeleton.parent(a) {
+            Some(p) => skin[p.index()],
+            None => *skeleton.base(),
+        }
+    }
+
+    /// `((1 − w)·M_p + w·M_a)`: the paper's vertex transform in bind space.
+    #[inline]
+    pub fn blend(skeleton: &Skeleton, skin: &[Matrix4<f32>], a: JointId, w: f32) -> Matrix4<f32> {
+        Self::parent_matrix(skeleton, skin, a) * (1.0 - w) + skin[a.index()] * w
+    }
+
+    /// Skins every vertex with the paper's model.
+    pub fn skin(&self, skeleton: &Skeleton, bind: &[Point], skin: &[Matrix4<f32>], out: &mut [Point]) {
+        for (v, p) in bind.iter().enumerate() {
+            let m = Self::blend(skeleton, skin, self.joint[v], self.weight[v]);
+            out[v] = m.transform_point(p);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::character::{Joint, Trs};
+    use nalgebra::{UnitQuaternion, Vector3};
+
+    fn two_bones() -> Skeleton {
+        let rest0 = Trs::IDENTITY;
+        let rest1 = Trs::from_translation(Vector3::new(0.0, 1.0, 0.0));
+        let j = |name: &str, parent, rest: Trs, bind_world: Matrix4<f32>| Joint {
+            name: name.into(),
+            parent,
+            rest,
+            inverse_bind: bind_world.try_inverse().unwrap(),
+        };
+        Skeleton::new(
+            vec![
+                j("root", None, rest0, rest0.to_matrix()),
+                j("child", Some(JointId(0)), rest1, rest1.to_matrix()),
+            ],
+            Matrix4::identity(),
+        )
+        .unwrap()
+    }
+
+    fn posed(s: &Skeleton) -> Vec<Matrix4<f32>> {
+        let mut local = s.rest_pose();
+        local[0].translation = Vector3::new(5.0, 0.0, 0.0);
+        local[1].rotation = UnitQuaternion::from_euler_angles(0.0, 0.0, std::f32::consts::FRAC_PI_2);
+        let mut world = vec![Matrix4::identity(); 2];
+        let mut skin = vec![Matrix4::identity(); 2];
+        s.world_matrices(&local, &mut world);
+        s.skin_matrices(&world, &mut skin);
+        skin
+    }
+
+    #[test]
+    fn rest_pose_skins_to_bind_positions() {
+        let s = two_bones();
+        let mut world = vec![Matrix4::identity(); 2];
+        let mut skin = vec![Matrix4::identity(); 2];
+        s.world_matrices(&s.rest_pose(), &mut world);
+        s.skin_matrices(&world, &mut skin);
+        let inf = Influences::new(vec![[0, 1, 0, 0]], vec![[0.3, 0.7, 0.0, 0.0]], 2).unwrap();
+        let p = [Point::new(0.2, 1.5, 0.1)];
+        let mut out = [Point::origin()];
+        inf.skin(&p, &skin, &mut out);
+        assert!((out[0] - p[0]).norm() < 1e-6);
+    }
+
+    #[test]
+    fn paper_model_blends_parent_and_joint() {
+        let s = two_bones();
+        let skin = posed(&s);
+        let p = [Point::new(0.0, 2.0, 0.0)];
+        let rigid_child = skin[1].transform_point(&p[0]);
+        let rigid_parent = skin[0].transform_point(&p[0]);
+        for (w, expected) in [(1.0, rigid_child), (0.0, rigid_parent)] {
+            let b = PaperBinding::new(vec![JointId(1)], vec![w], &s).unwrap();
+            let mut out = [Point::origin()];
+            b.skin(&s, &p, &skin, &mut out);
+            assert!((out[0] - expected).norm() < 1e-5, "w={w}");
+        }
+        // The paper's model equals two-influence linear blend skinning.
+        let b = PaperBinding::new(vec![JointId(1)], vec![0.25], &s).unwrap();
+        let inf = Influences::new(vec![[0, 1, 0, 0]], vec![[0.75, 0.25, 0.0, 0.0]], 2).unwrap();
+        let (mut x, mut y) = ([Point::origin()], [Point::origin()]);
+        b.skin(&s, &p, &skin, &mut x);
+        inf.skin(&p, &skin, &mut y);
+        assert!((x[0] - y[0]).norm() < 1e-5);
+    }
+
+    #[test]
+    fn conversion_from_gltf_weights() {
+        let s = two_bones();
+        let inf = Influences::new(
+            vec![[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0]],
+            vec![[0.6, 0.4, 0.0, 0.0], [0.9, 0.1, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]],
+            2,
+        )
+        .unwrap();
+        let b = PaperBinding::from_influences(&inf, &s);
+        // Runner-up is a child: the vertex goes to the child with its share.
+        assert_eq!((b.joint(0), b.weight(0)), (JointId(1), 0.4));
+        assert_eq!((b.joint(1), b.weight(1)), (JointId(1), 0.9));
+        assert_eq!((b.joint(2), b.weight(2)), (JointId(0), 1.0));
+    }
+
+    #[test]
+    fn bad_weights_and_joints() {
+        assert!(matches!(
+            Influences::new(vec![[0, 0, 0, 0]], vec![[0.0; 4]], 2),
+            Err(SkinError::BadWeights { vertex: 0, .. })
+        ));
+        assert!(matches!(
+            Influences::new(vec![[0, 7, 0, 0]], vec![[0.5, 0.5, 0.0, 0.0]], 2),
+            Err(SkinError::JointOutOfRange { vertex: 0, joint: 7, .. })
+        ));
+        // A zero-weight influence may name any joint.
+        assert!(Influences::new(vec![[0, 7, 0, 0]], vec![[1.0, 0.0, 0.0, 0.0]], 2).is_ok());
+    }
+}
