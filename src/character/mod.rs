@@ -4,14 +4,17 @@
 //! |---|---|---|
 //! | [`transform`] | [`Trs`]: translation, rotation, scale | |
 //! | [`skeleton`] | [`Skeleton`]: joints, parents before children, rest pose, inverse bind matrices | §3 |
+//! | [`model`] | [`Character`] and reusable [`PoseBuffers`] | §3 |
 //! | [`clip`] | [`Clip`]: keyframed channels (STEP, LINEAR, CUBICSPLINE) sampled at any time | |
 //! | [`skinning`] | glTF linear blend skinning and the paper's one-joint model, with the conversion | §3 |
 
 pub mod clip;
+pub mod model;
 pub mod skeleton;
 pub mod skinning;
 pub mod transform;
 
+pub use model::{Character, PoseBuffers, UnknownClip};
 pub use clip::{Channel, ChannelValues, Clip, Interpolation};
 pub use skeleton::{Joint, JointId, Skeleton, SkeletonError};
 pub use skinning::{Influences, PaperBinding, SkinningModel};

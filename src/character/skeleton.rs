@@ -45,6 +45,8 @@ pub enum SkeletonError {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skeleton {
     joints: Vec<Joint>,
+    /// Rest transforms, kept contiguous for sampling clips without allocation.
+    rest: Vec<Trs>,
     /// World transform of the frame the root joints hang from (the glTF nodes
     /// above the skeleton; identity for generated characters).
     base: Matrix4<f32>,
@@ -72,7 +74,8 @@ impl Skeleton {
                 return Err(SkeletonError::NonFinite { joint: i, name: j.name.clone() });
             }
         }
-        Ok(Self { joints, base })
+        let rest = joints.iter().map(|j| j.rest).collect();
+        Ok(Self { joints, rest, base })
     }
 
     pub fn joints(&self) -> &[Joint] {
@@ -105,7 +108,23 @@ impl Skeleton {
 
     /// The rest pose: every joint at its rest transform.
     pub fn rest_pose(&self) -> Vec<Trs> {
-        self.joints.iter().map(|j| j.rest).collect()
+        self.rest.clone()
+    }
+
+    /// The rest pose without copying.
+    pub fn rest_pose_ref(&self) -> &[Trs] {
+        &self.rest
+    }
+
+    /// Children of each joint.
+    pub fn children(&self) -> Vec<Vec<JointId>> {
+        let mut c = vec![Vec::new(); self.joints.len()];
+        for (i, j) in self.joints.iter().enumerate() {
+            if let Some(p) = j.parent {
+                c[p.index()].push(JointId(i as u16));
+            }
+        }
+        c
     }
 
     /// World matrices of a pose (one local transform per joint).

@@ -4,6 +4,8 @@
 //! |---|---|
 //! | [`node`] | [`SphereTree`], [`Node`], [`NodeId`]: compact storage, children after parents |
 //! | [`build`] | top-down binary split, then collapse to an n-ary tree |
+//! | [`character`] | the character's tree: one tree per joint under root and extremity spheres |
+//! | [`refit`] | on-demand refit from per-joint weight ranges (§3 sphere update) |
 //! | [`validate`] | the public validator tests call after every step |
 //! | [`traverse`] | simultaneous traversal of two trees with a reusable [`Workspace`] |
 //!
@@ -15,7 +17,9 @@
 //! parent), which makes pruning exact with respect to leaf spheres.
 
 pub mod build;
+pub mod character;
 pub mod node;
+pub mod refit;
 pub mod traverse;
 pub mod validate;
 

@@ -123,6 +123,17 @@ impl SphereTree {
         counts
     }
 
+    /// Parent of every node (`u32::MAX` for the root).
+    pub fn parents(&self) -> Vec<u32> {
+        let mut p = vec![u32::MAX; self.nodes.len()];
+        for (i, n) in self.nodes.iter().enumerate() {
+            for c in n.children() {
+                p[c as usize] = i as u32;
+            }
+        }
+        p
+    }
+
     /// Number of levels (a lone leaf has depth 1; an empty tree 0).
     pub fn depth(&self) -> usize {
         self.nodes_per_level().len()

@@ -54,3 +54,76 @@ pub fn uv_sphere(c: Point, r: f32, rings: u32, segments: u32) -> TriMesh {
     }
     TriMesh::new(p, t).unwrap()
 }
+
+use cornertree::character::{Character, Influences, Joint, JointId, Skeleton, Trs};
+use nalgebra::{Matrix4, UnitQuaternion, Vector3};
+
+/// A random character: a joint tree of `joints` joints (each joint's parent is
+/// an earlier joint), a soup of `triangles` small triangles scattered along the
+/// bones, and 1 to 4 random influences per vertex drawn near the owning joint.
+pub fn random_character(seed: u64, joints: usize, triangles: usize) -> Character {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let mut js: Vec<Joint> = Vec::new();
+    let mut world: Vec<Matrix4<f32>> = Vec::new();
+    for i in 0..joints {
+        let parent = if i == 0 { None } else { Some(JointId(rng.random_range(0..i) as u16)) };
+        let rest = Trs {
+            translation: Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(0.2..1.0), rng.random_range(-1.0..1.0)),
+            rotation: UnitQuaternion::from_euler_angles(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)),
+            scale: Vector3::new(1.0, 1.0, 1.0),
+        };
+        let w = match parent {
+            Some(p) => world[p.index()] * rest.to_matrix(),
+            None => rest.to_matrix(),
+        };
+        world.push(w);
+        js.push(Joint { name: format!("j{i}"), parent, rest, inverse_bind: w.try_inverse().unwrap() });
+    }
+    let skeleton = Skeleton::new(js, Matrix4::identity()).unwrap();
+    let mut p = Vec::new();
+    let mut infl_j = Vec::new();
+    let mut infl_w = Vec::new();
+    for _ in 0..triangles {
+        let j = rng.random_range(0..joints);
+        let origin = world[j].transform_point(&Point::origin());
+        let c = origin + Vector3::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3));
+        for _ in 0..3 {
+            p.push(c + Vector3::new(rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05)));
+            let k = rng.random_range(1..=4usize);
+            let mut jj = [0u16; 4];
+            let mut ww = [0.0f32; 4];
+            for m in 0..k {
+                // Mostly the owning joint, its parent or a random joint.
+                jj[m] = match rng.random_range(0..3) {
+                    0 => j as u16,
+                    1 => skeleton.parent(JointId(j as u16)).map_or(j as u16, |x| x.0),
+                    _ => rng.random_range(0..joints) as u16,
+                };
+                ww[m] = rng.random_range(0.05..1.0);
+            }
+            infl_j.push(jj);
+            infl_w.push(ww);
+        }
+    }
+    let t = (0..triangles as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    let mesh = TriMesh::new(p, t).unwrap();
+    let influences = Influences::new(infl_j, infl_w, joints).unwrap();
+    Character::new(format!("random-{seed}"), skeleton, mesh, influences, vec![])
+}
+
+/// A random pose: every joint rotated, translated and uniformly scaled.
+pub fn random_pose(seed: u64, skeleton: &Skeleton, max_scale: f32) -> Vec<Trs> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    skeleton
+        .rest_pose()
+        .into_iter()
+        .map(|r| {
+            let s = if max_scale > 1.0 { rng.random_range(1.0 / max_scale..max_scale) } else { 1.0 };
+            Trs {
+                translation: r.translation + Vector3::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3)),
+                rotation: r.rotation * UnitQuaternion::from_euler_angles(rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0)),
+                scale: Vector3::new(s, s, s),
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,93 @@
+//! A skinned character: skeleton, bind-pose mesh, per-vertex influences, clips.
+
+use nalgebra::Matrix4;
+
+use crate::geometry::Point;
+use crate::mesh::TriMesh;
+
+use super::skinning::{Influences, PaperBinding, SkinningModel};
+use super::{Clip, Skeleton, Trs};
+
+/// Everything needed to pose and skin a character.
+#[derive(Clone, Debug)]
+pub struct Character {
+    pub name: String,
+    pub skeleton: Skeleton,
+    /// Triangles with bind-space (mesh space) positions.
+    pub mesh: TriMesh,
+    /// glTF influences, one entry per mesh vertex.
+    pub influences: Influences,
+    /// The paper's one-joint binding, converted from `influences`.
+    pub paper: PaperBinding,
+    pub clips: Vec<Clip>,
+}
+
+/// An unknown clip name, with the names there are.
+#[derive(Debug, thiserror::Error, PartialEq)]
+#[error("no clip named {name:?}; clips: {}", if available.is_empty() { "(none)".to_string() } else { available.join(", ") })]
+pub struct UnknownClip {
+    pub name: String,
+    pub available: Vec<String>,
+}
+
+impl Character {
+    /// Assembles a character; the paper binding is derived from the influences.
+    pub fn new(name: String, skeleton: Skeleton, mesh: TriMesh, influences: Influences, clips: Vec<Clip>) -> Self {
+        let paper = PaperBinding::from_influences(&influences, &skeleton);
+        Self { name, skeleton, mesh, influences, paper, clips }
+    }
+
+    /// The clip called `name`, or the first clip when `name` is `None`.
+    pub fn clip(&self, name: Option<&str>) -> Result<&Clip, UnknownClip> {
+        let found = match name {
+            Some(n) => self.clips.iter().find(|c| c.name == n),
+            None => self.clips.first(),
+        };
+        found.ok_or_else(|| UnknownClip {
+            name: name.unwrap_or("(first)").to_string(),
+            available: self.clips.iter().map(|c| c.name.clone()).collect(),
+        })
+    }
+}
+
+/// Reusable per-frame buffers: local transforms, world and skin matrices, and
+/// the posed vertex positions. Posing allocates nothing after construction.
+#[derive(Clone, Debug)]
+pub struct PoseBuffers {
+    pub local: Vec<Trs>,
+    pub world: Vec<Matrix4<f32>>,
+    pub skin: Vec<Matrix4<f32>>,
+    pub positions: Vec<Point>,
+}
+
+impl PoseBuffers {
+    pub fn new(character: &Character) -> Self {
+        let n = character.skeleton.len();
+        Self {
+            local: character.skeleton.rest_pose(),
+            world: vec![Matrix4::identity(); n],
+            skin: vec![Matrix4::identity(); n],
+            positions: character.mesh.positions().to_vec(),
+        }
+    }
+
+    /// Samples `clip` at `t` and computes world and skin matrices.
+    pub fn pose(&mut self, character: &Character, clip: Option<&Clip>, t: f32) {
+        let rest = character.skeleton.rest_pose_ref();
+        match clip {
+            Some(c) => c.sample(t, rest, &mut self.local),
+            None => self.local.copy_from_slice(rest),
+        }
+        character.skeleton.world_matrices(&self.local, &mut self.world);
+        character.skeleton.skin_matrices(&self.world, &mut self.skin);
+    }
+
+    /// Skins every vertex with `model` from the current skin matrices.
+    pub fn skin_all(&mut self, character: &Character, model: SkinningModel) {
+        let bind = character.mesh.positions();
+        match model {
+            SkinningModel::Linear => character.influences.skin(bind, &self.skin, &mut self.positions),
+            SkinningModel::Paper => character.paper.skin(&character.skeleton, bind, &self.skin, &mut self.positions),
+        }
+    }
+}

@@ -1,0 +1,260 @@
+//! The character's sphere tree (paper §3): one tree per joint over the
+//! triangles that joint owns, merged under a root sphere and one sphere per
+//! extremity.
+//!
+//! **Ownership.** A vertex belongs to its joint in the paper's model
+//! ([`PaperBinding`](crate::character::PaperBinding)); a triangle to the joint
+//! owning most of its vertices (all three different: the first vertex's).
+//!
+//! **Extremities** (our reading; the paper does not define them). A joint is a
+//! *major branch* when at least two of its child subtrees each own at least
+//! [`MAJOR_SHARE`] of the triangles. The *trunk* is the root joint(s) plus every
+//! joint on a path from a root to a major branch. Each child subtree hanging off
+//! the trunk is one extremity (legs, arms, head for a humanoid); the trunk's own
+//! joints form one more group (the torso). A group made of a single joint's
+//! tree is not wrapped again: that tree's root is the level-2 sphere.
+//!
+//! Spheres are built in bind space; each node also gets the rule that refits it
+//! (see [`refit`](super::refit)).
+
+use crate::character::{Character, JointId, Skeleton, SkinningModel};
+use crate::geometry::enclosing::{points_sphere, round_up};
+use crate::geometry::sphere::distance_f64;
+use crate::geometry::{Point, Sphere};
+use crate::mesh::{EdgeDedup, TriangleId};
+
+use super::build::{BuildParams, build_tree};
+use super::node::{Node, NodeId, SphereTree};
+use super::refit::RefitData;
+
+/// Share of triangles a child subtree needs for its parent to be a major branch.
+pub const MAJOR_SHARE: f64 = 0.05;
+
+/// A level-2 group: the trunk or one extremity.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Extremity {
+    /// Name of the group's top joint ("trunk" for the trunk).
+    pub name: String,
+    pub joints: Vec<JointId>,
+}
+
+/// The merged tree, its refit rules and how it was assembled.
+#[derive(Clone, Debug)]
+pub struct CharacterTree {
+    /// Topology and bind-space (rest) spheres.
+    pub tree: SphereTree,
+    pub refit: RefitData,
+    pub model: SkinningModel,
+    pub extremities: Vec<Extremity>,
+    /// Owning joint of every mesh triangle.
+    pub triangle_joint: Vec<JointId>,
+    /// Triangles in the tree (after de-duplication, if any).
+    pub triangles: Vec<TriangleId>,
+}
+
+impl CharacterTree {
+    /// Builds the tree over the triangles `dedup` keeps, with refit rules for
+    /// `model`.
+    pub fn build(character: &Character, dedup: &EdgeDedup, model: SkinningModel, params: BuildParams) -> Self {
+        let mesh = &character.mesh;
+        let skeleton = &character.skeleton;
+        let triangle_joint: Vec<JointId> = mesh
+            .indices()
+            .iter()
+            .map(|t| {
+                let j = t.map(|v| character.paper.joint(v as usize));
+                if j[1] == j[2] { j[1] } else { j[0] }
+            })
+            .collect();
+        let triangles: Vec<TriangleId> = dedup.kept().collect();
+
+        // Per-joint trees.
+        let mut per_joint: Vec<Vec<TriangleId>> = vec![Vec::new(); skeleton.len()];
+        for &t in &triangles {
+            per_joint[triangle_joint[t.index()].index()].push(t);
+        }
+        let joint_trees: Vec<(JointId, SphereTree)> = per_joint
+            .iter()
+            .enumerate()
+            .filter(|(_, ts)| !ts.is_empty())
+            .map(|(j, ts)| (JointId(j as u16), build_tree(mesh, ts, params)))
+            .collect();
+
+        let counts: Vec<usize> = per_joint.iter().map(Vec::len).collect();
+        let extremities = extremities(skeleton, &counts);
+
+        // Groups of joint-tree indices.
+        let tree_of_joint = |j: JointId| joint_trees.iter().position(|(k, _)| *k == j);
+        let groups: Vec<Vec<usize>> = extremities
+            .iter()
+            .map(|e| e.joints.iter().filter_map(|&j| tree_of_joint(j)).collect::<Vec<_>>())
+            .filter(|g: &Vec<usize>| !g.is_empty())
+            .collect();
+
+        let (tree, origin) = assemble(character, &joint_trees, &per_joint, &groups);
+        let refit = RefitData::new(character, model, &tree, &origin, &joint_trees);
+        Self { tree, refit, model, extremities, triangle_joint, triangles }
+    }
+}
+
+/// Where a node of the merged tree comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Origin {
+    Root,
+    Group(usize),
+    /// Node `1` of joint tree `0`.
+    Joint(usize, NodeId),
+}
+
+/// The trunk and extremities of a skeleton, given triangles owned per joint.
+pub fn extremities(skeleton: &Skeleton, owned: &[usize]) -> Vec<Extremity> {
+    let n = skeleton.len();
+    let children = skeleton.children();
+    // Triangles in each joint's subtree (children come after parents).
+    let mut subtree = owned.to_vec();
+    for i in (0..n).rev() {
+        if let Some(p) = skeleton.parent(JointId(i as u16)) {
+            subtree[p.index()] += subtree[i];
+        }
+    }
+    let total: usize = owned.iter().sum::<usize>().max(1);
+    let big = |j: &JointId| subtree[j.index()] as f64 >= MAJOR_SHARE * total as f64;
+    let mut trunk = vec![false; n];
+    let roots: Vec<JointId> = (0..n as u16).map(JointId).filter(|&j| skeleton.parent(j).is_none()).collect();
+    let several_roots = roots.iter().filter(|r| big(r)).count() >= 2;
+    if !several_roots {
+        for &r in &roots {
+            trunk[r.index()] = true;
+        }
+    }
+    for j in 0..n {
+        if children[j].iter().filter(|c| big(c)).count() >= 2 {
+            // Mark the path from this major branch up to its root.
+            let mut k = Some(JointId(j as u16));
+            while let Some(x) = k {
+                trunk[x.index()] = true;
+                k = skeleton.parent(x);
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let trunk_joints: Vec<JointId> = (0..n as u16).map(JointId).filter(|j| trunk[j.index()]).collect();
+    if !trunk_joints.is_empty() {
+        out.push(Extremity { name: "trunk".into(), joints: trunk_joints });
+    }
+    // Each non-trunk child of a trunk joint (or each root, with several roots)
+    // heads one extremity.
+    let heads: Vec<JointId> = (0..n as u16)
+        .map(JointId)
+        .filter(|&j| !trunk[j.index()])
+        .filter(|&j| match skeleton.parent(j) {
+            Some(p) => trunk[p.index()],
+            None => true,
+        })
+        .collect();
+    for h in heads {
+        let joints: Vec<JointId> = (0..n as u16).map(JointId).filter(|&j| skeleton.is_ancestor_or_self(h, j)).collect();
+        out.push(Extremity { name: skeleton.joint(h).name.clone(), joints });
+    }
+    out
+}
+
+/// Lays the merged tree out breadth first; returns it with each node's origin.
+fn assemble(
+    character: &Character,
+    joint_trees: &[(JointId, SphereTree)],
+    per_joint: &[Vec<TriangleId>],
+    groups: &[Vec<usize>],
+) -> (SphereTree, Vec<Origin>) {
+    let mesh = &character.mesh;
+    let verts_of = |tree_ids: &mut dyn Iterator<Item = usize>| -> Vec<Point> {
+        tree_ids
+            .flat_map(|t| per_joint[joint_trees[t].0.index()].iter())
+            .flat_map(|&tri| mesh.triangle(tri).vertices())
+            .collect()
+    };
+    let level2: Vec<Origin> = groups
+        .iter()
+        .enumerate()
+        .map(|(g, trees)| if trees.len() == 1 { Origin::Joint(trees[0], NodeId::ROOT) } else { Origin::Group(g) })
+        .collect();
+    let root = if level2.len() == 1 { level2[0] } else { Origin::Root };
+
+    let children = |o: Origin| -> Vec<Origin> {
+        match o {
+            Origin::Root => level2.clone(),
+            Origin::Group(g) => groups[g].iter().map(|&t| Origin::Joint(t, NodeId::ROOT)).collect(),
+            Origin::Joint(t, n) => joint_trees[t].1.node(n).children().map(|c| Origin::Joint(t, NodeId(c))).collect(),
+        }
+    };
+    let mut order = vec![root];
+    let mut nodes: Vec<Node> = Vec::new();
+    let mut i = 0;
+    while i < order.len() {
+        let o = order[i];
+        let node = match o {
+            Origin::Joint(t, n) => {
+                let src = joint_trees[t].1.node(n);
+                match src.primitive() {
+                    Some(p) => Node::leaf(src.sphere, p),
+                    None => Node::inner(src.sphere, NodeId(order.len() as u32), src.child_count()),
+                }
+            }
+            Origin::Root | Origin::Group(_) => {
+                let trees: Vec<usize> = match o {
+                    Origin::Root => (0..joint_trees.len()).collect(),
+                    Origin::Group(g) => groups[g].clone(),
+                    Origin::Joint(..) => unreachable!(),
+                };
+                let kids = children(o);
+                let mut s = points_sphere(&verts_of(&mut trees.into_iter()));
+                // Nest: hold every child sphere.
+                for k in &kids {
+                    let c = sphere_of(joint_trees, groups, mesh, per_joint, *k);
+                    let need = distance_f64(&c.center, &s.center) + c.radius as f64;
+                    if need > s.radius as f64 {
+                        s.radius = round_up(need);
+                    }
+                }
+                Node::inner(s, NodeId(order.len() as u32), kids.len() as u32)
+            }
+        };
+        if !node.is_leaf() {
+            order.extend(children(o));
+        }
+        nodes.push(node);
+        i += 1;
+    }
+    (SphereTree::from_nodes(nodes), order)
+}
+
+/// Sphere of a group or joint-tree node (groups recomputed: only a handful).
+fn sphere_of(
+    joint_trees: &[(JointId, SphereTree)],
+    groups: &[Vec<usize>],
+    mesh: &crate::mesh::TriMesh,
+    per_joint: &[Vec<TriangleId>],
+    o: Origin,
+) -> Sphere {
+    match o {
+        Origin::Joint(t, n) => joint_trees[t].1.node(n).sphere,
+        Origin::Group(g) => {
+            let mut s = points_sphere(
+                &groups[g]
+                    .iter()
+                    .flat_map(|&t| per_joint[joint_trees[t].0.index()].iter())
+                    .flat_map(|&tri| mesh.triangle(tri).vertices())
+                    .collect::<Vec<_>>(),
+            );
+            for &t in &groups[g] {
+                let c = joint_trees[t].1.node(NodeId::ROOT).sphere;
+                let need = distance_f64(&c.center, &s.center) + c.radius as f64;
+                if need > s.radius as f64 {
+                    s.radius = round_up(need);
+                }
+            }
+            s
+        }
+        Origin::Root => unreachable!("the root is nobody's child"),
+    }
+}
