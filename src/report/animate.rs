@@ -1,0 +1,219 @@
+//! `cornertree inspect --animate`: play a clip, refit the character's spheres
+//! every frame, and measure containment, tightness and cost.
+//!
+//! - **Containment**: every deformed vertex of every node's triangles must lie
+//!   in that node's refit sphere (tolerance `1e-5 × model size`).
+//! - **Tightness**: refit radius over the radius of the minimal sphere (Welzl)
+//!   of the same deformed vertices, per node; mean and maximum.
+//! - **Cost per frame**: skinning; full refit of every node; on-demand refit,
+//!   i.e. the nodes a traversal against a finely tessellated floor under the
+//!   character reaches; and a rebuild of the tree from scratch.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::character::{Character, PoseBuffers, SkinningModel, UnknownClip};
+use crate::geometry::Point;
+use crate::geometry::enclosing::points_sphere;
+use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
+use crate::sphere_tree::character::CharacterTree;
+use crate::sphere_tree::refit::{OnDemand, RefitState, Refitter, check_containment};
+use crate::sphere_tree::{BuildParams, SphereTree, Workspace, build_tree, traverse};
+
+/// Settings of an animated inspection.
+#[derive(Clone, Debug)]
+pub struct AnimateOptions {
+    pub model: SkinningModel,
+    /// Clip name; the first clip when `None`.
+    pub clip: Option<String>,
+    pub fps: f32,
+    pub dedup: bool,
+    pub build: BuildParams,
+    /// Measure tightness on every n-th frame (it costs a Welzl sphere per node).
+    pub tightness_every: usize,
+    /// Containment tolerance as a fraction of the model size.
+    pub tolerance_rel: f64,
+}
+
+impl Default for AnimateOptions {
+    fn default() -> Self {
+        Self {
+            model: SkinningModel::Linear,
+            clip: None,
+            fps: 30.0,
+            dedup: true,
+            build: BuildParams::default(),
+            tightness_every: 1,
+            tolerance_rel: 1e-5,
+        }
+    }
+}
+
+/// Results of playing one clip. Field names are the `--json` keys under `refit`.
+#[derive(Clone, Debug, Serialize)]
+pub struct RefitReport {
+    pub clip: String,
+    pub model: SkinningModel,
+    pub frames: usize,
+    pub fps: f32,
+    pub nodes: usize,
+    /// Vertex-in-sphere checks made.
+    pub checks: u64,
+    /// Deformed vertices found outside a refit sphere that should hold them.
+    pub violations: u64,
+    /// Tolerance used, in model units.
+    pub tolerance: f64,
+    /// Largest distance of a vertex beyond a refit radius (0 if none).
+    pub worst_excess: f64,
+    pub tightness_mean: f64,
+    pub tightness_max: f64,
+    /// Frames on which tightness was measured.
+    pub tightness_frames: usize,
+    pub skinning_ms_per_frame: f64,
+    pub full_refit_ms_per_frame: f64,
+    pub on_demand_ms_per_frame: f64,
+    /// Mean nodes refit on demand per frame (traversal against the floor);
+    /// `on_demand_ms_per_frame` includes that traversal.
+    pub on_demand_refits_mean: f64,
+    pub rebuild_ms_per_frame: f64,
+}
+
+/// Plays the clip and measures (see the module doc).
+pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitReport, UnknownClip> {
+    let clip = character.clip(options.clip.as_deref())?;
+    let dedup = if options.dedup { dedup_edges(&character.mesh) } else { EdgeDedup::keep_all(&character.mesh) };
+    let ct = CharacterTree::build(character, &dedup, options.model, options.build);
+    let parents = ct.tree.parents();
+    let (leaf_order, ranges) = ct.tree.subtree_primitives();
+    let tolerance = options.tolerance_rel * character.mesh.size() as f64;
+    let base = *character.skeleton.base();
+
+    let mut buffers = PoseBuffers::new(character);
+    let mut state = RefitState::new(&ct, character.skeleton.len());
+    let mut lazy = RefitState::new(&ct, character.skeleton.len());
+    let mut ws = Workspace::new();
+
+    // Floor under the first frame's pose.
+    buffers.pose(character, Some(clip), clip.start());
+    buffers.skin_all(character, options.model);
+    let mut floor = floor_under(&buffers.positions, character.mesh.size());
+
+    let frames = (clip.duration() * options.fps).floor() as usize + 1;
+    let mut r = RefitReport {
+        clip: clip.name.clone(),
+        model: options.model,
+        frames,
+        fps: options.fps,
+        nodes: ct.tree.len(),
+        checks: 0,
+        violations: 0,
+        tolerance,
+        worst_excess: 0.0,
+        tightness_mean: 0.0,
+        tightness_max: 0.0,
+        tightness_frames: 0,
+        skinning_ms_per_frame: 0.0,
+        full_refit_ms_per_frame: 0.0,
+        on_demand_ms_per_frame: 0.0,
+        on_demand_refits_mean: 0.0,
+        rebuild_ms_per_frame: 0.0,
+    };
+    let (mut tight_sum, mut tight_n) = (0.0f64, 0u64);
+    let mut scratch: Vec<Point> = Vec::new();
+    let mut posed = character.mesh.clone();
+    for k in 0..frames {
+        let t = clip.start() + k as f32 / options.fps;
+        let t0 = Instant::now();
+        buffers.pose(character, Some(clip), t);
+        buffers.skin_all(character, options.model);
+        r.skinning_ms_per_frame += ms(t0);
+
+        let t0 = Instant::now();
+        state.begin_frame(&character.skeleton, &buffers.skin);
+        Refitter { tree: &ct, skin: &buffers.skin, state: &mut state }.refit_all(&base);
+        r.full_refit_ms_per_frame += ms(t0);
+
+        let t0 = Instant::now();
+        lazy.begin_frame(&character.skeleton, &buffers.skin);
+        let mut od = OnDemand { refitter: Refitter { tree: &ct, skin: &buffers.skin, state: &mut lazy }, base };
+        traverse(&mut od, &mut floor, &mut ws, |_| {});
+        r.on_demand_ms_per_frame += ms(t0);
+        r.on_demand_refits_mean += lazy.refits as f64;
+
+        let c = check_containment(&ct, &state, &buffers.positions, character.mesh.indices(), &parents, tolerance);
+        r.checks += c.checks;
+        r.violations += c.violations;
+        r.worst_excess = r.worst_excess.max(c.worst_excess);
+
+        posed.positions_mut().copy_from_slice(&buffers.positions);
+        let t0 = Instant::now();
+        let rebuilt = build_tree(&posed, &ct.triangles, options.build);
+        r.rebuild_ms_per_frame += ms(t0);
+        drop(rebuilt);
+
+        if options.tightness_every > 0 && k % options.tightness_every == 0 {
+            r.tightness_frames += 1;
+            for (i, s) in state.spheres.iter().enumerate() {
+                let (a, b) = ranges[i];
+                scratch.clear();
+                for &p in &leaf_order[a as usize..b as usize] {
+                    scratch.extend(posed.triangle(TriangleId(p)).vertices());
+                }
+                let tight = points_sphere(&scratch).radius as f64;
+                if tight > 1e-9 * character.mesh.size() as f64 {
+                    let ratio = s.radius as f64 / tight;
+                    tight_sum += ratio;
+                    tight_n += 1;
+                    r.tightness_max = r.tightness_max.max(ratio);
+                }
+            }
+        }
+    }
+    let f = frames as f64;
+    r.skinning_ms_per_frame /= f;
+    r.full_refit_ms_per_frame /= f;
+    r.on_demand_ms_per_frame /= f;
+    r.on_demand_refits_mean /= f;
+    r.rebuild_ms_per_frame /= f;
+    r.tightness_mean = if tight_n > 0 { tight_sum / tight_n as f64 } else { 0.0 };
+    Ok(r)
+}
+
+fn ms(t0: Instant) -> f64 {
+    t0.elapsed().as_secs_f64() * 1e3
+}
+
+/// A square grid floor (Y up) just under the lowest vertex, twice the
+/// character's footprint, in cells of about 2% of the model size.
+fn floor_under(positions: &[Point], size: f32) -> SphereTree {
+    let (mut lo, mut hi) = (positions[0], positions[0]);
+    for p in positions {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let cx = 0.5 * (lo.x + hi.x);
+    let cz = 0.5 * (lo.z + hi.z);
+    let half = (hi.x - lo.x).max(hi.z - lo.z).max(1e-3 * size);
+    let cell = (0.02 * size).max(1e-6);
+    let n = ((2.0 * half / cell).ceil() as u32).clamp(1, 400);
+    let y = lo.y - 1e-3 * size;
+    let step = 2.0 * half / n as f32;
+    let mut p = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
+    for j in 0..=n {
+        for i in 0..=n {
+            p.push(Point::new(cx - half + i as f32 * step, y, cz - half + j as f32 * step));
+        }
+    }
+    let at = |i: u32, j: u32| j * (n + 1) + i;
+    let mut t = Vec::with_capacity((2 * n * n) as usize);
+    for j in 0..n {
+        for i in 0..n {
+            t.push([at(i, j), at(i + 1, j + 1), at(i + 1, j)]);
+            t.push([at(i, j), at(i, j + 1), at(i + 1, j + 1)]);
+        }
+    }
+    let mesh = TriMesh::new(p, t).expect("floor grid is well formed");
+    let all: Vec<TriangleId> = (0..mesh.triangle_count() as u32).map(TriangleId).collect();
+    build_tree(&mesh, &all, BuildParams::default())
+}
