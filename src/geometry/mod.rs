@@ -7,11 +7,13 @@
 //! | [`plane_sphere`] | Algorithm 1, the plane-sphere test (30 operations) | §5 |
 //! | [`tri_tri`] | Tropp et al. triangle-triangle test (96 operations) | §3 narrow phase |
 //! | [`exact`] | exact triangle-triangle oracle on adaptive predicates | (reference) |
+//! | [`closest_point`] | closest point on a triangle, `f64` (plane-sphere false-positive reference) | (reference) |
 //! | [`enclosing`] | minimal enclosing spheres; the paper's sphere of spheres | §3 |
 //!
 //! Storage is `f32` (as a real-time engine would keep it); kernels that decide
 //! contact widen to `f64` internally, where products of `f32` inputs are exact.
 
+pub mod closest_point;
 pub mod enclosing;
 pub mod exact;
 pub mod plane_sphere;
