@@ -1,26 +1,742 @@
-//! Static glTF loading. STUB: to be implemented.
+//! Static glTF 2.0 loading: every triangle of a scene, in world space, as one [`TriMesh`].
+//!
+//! [`load_static_mesh`] reads `.glb` and `.gltf` (buffers in external files or
+//! base64 `data:` URIs). It takes the default scene, else the first scene, else
+//! every root node; walks the node trees composing each node's transform (TRS or
+//! matrix) into a world transform; and appends every vertex of every triangle
+//! primitive of each node's mesh, so a mesh placed by two nodes appears twice.
+//! Vertices are not welded: each primitive contributes its whole `POSITION`
+//! accessor. Missing indices mean `0..n`.
+//!
+//! - `TRIANGLES` is taken as stored. `TRIANGLE_STRIP` and `TRIANGLE_FAN` are
+//!   converted with the winding the glTF spec defines (odd strip triangles
+//!   swap their last two corners); strip/fan triangles that repeat an index
+//!   (stitching) are dropped and counted. `POINTS` and `LINES*` primitives are
+//!   skipped and listed in [`LoadReport::skipped`].
+//! - Skinned nodes: the glTF spec says the transform of the node that carries a
+//!   skinned mesh must be ignored (only joint transforms apply). Joints are not
+//!   evaluated here, so such a mesh is placed with its positions as stored, the
+//!   bind pose. Children of that node still inherit its transform.
+//! - Morph targets are ignored (base positions as stored) and noted in
+//!   [`LoadReport::notes`].
+//! - Any entry of `extensionsRequired` (e.g. `KHR_draco_mesh_compression`,
+//!   `KHR_mesh_quantization`) is an error: only core glTF 2.0 is read.
+//! - Leniency: `POSITION` accessors without the spec's `min`/`max` are accepted.
+//!   Strictness: a node reached twice (a cycle or shared subtree) is an error.
+//!
+//! Every [`LoadError`] message is one line naming the file and the problem.
+//! Malformed content is an error, never a panic: offsets, counts, strides and
+//! node links are checked before use.
 
+use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::mesh::TriMesh;
+use gltf::buffer::{Data, Source};
+use gltf::mesh::{Mode, Semantic};
+use gltf::scene::Transform;
+use nalgebra::{Matrix4, Point3, Quaternion, UnitQuaternion, Vector3};
 
-/// Why a file could not be loaded. Every variant names the file.
+use super::gltf_accessor;
+use crate::geometry::Point;
+use crate::mesh::{MeshError, TriMesh};
+
+/// A mesh of the file: index, and name if it has one.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MeshRef {
+    pub index: usize,
+    pub name: Option<String>,
+}
+
+impl fmt::Display for MeshRef {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.name {
+            // Debug formatting quotes and escapes, so the name cannot break the line.
+            Some(name) => write!(f, "{} {:?}", self.index, name),
+            None => write!(f, "{}", self.index),
+        }
+    }
+}
+
+/// Why a file could not be loaded. Every message is one line that starts with
+/// the file's path.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
-    #[error("{path}: {message}")]
-    Other { path: PathBuf, message: String },
+    #[error("{}: cannot read file: {error}", .path.display())]
+    Io {
+        path: PathBuf,
+        error: std::io::Error,
+    },
+
+    #[error("{}: not a glTF 2.0 file: {reason}", .path.display())]
+    NotGltf { path: PathBuf, reason: String },
+
+    #[error(
+        "{}: requires unsupported glTF extension(s) {}; only core glTF 2.0 can be read",
+        .path.display(), .extensions.join(", ")
+    )]
+    UnsupportedExtension {
+        path: PathBuf,
+        extensions: Vec<String>,
+    },
+
+    #[error("{}: invalid glTF: {reason}", .path.display())]
+    Invalid { path: PathBuf, reason: String },
+
+    #[error("{}: buffer {buffer}: {reason}", .path.display())]
+    Buffer {
+        path: PathBuf,
+        buffer: usize,
+        reason: String,
+    },
+
+    #[error("{}: node hierarchy is not a forest: node {node} is reached twice", .path.display())]
+    NodeGraph { path: PathBuf, node: usize },
+
+    #[error("{}: mesh {mesh} primitive {primitive} has no POSITION attribute", .path.display())]
+    MissingPosition {
+        path: PathBuf,
+        mesh: MeshRef,
+        primitive: usize,
+    },
+
+    #[error("{}: mesh {mesh} primitive {primitive}: accessor {accessor}: {reason}", .path.display())]
+    Accessor {
+        path: PathBuf,
+        mesh: MeshRef,
+        primitive: usize,
+        accessor: usize,
+        reason: String,
+    },
+
+    #[error(
+        "{}: mesh {mesh} primitive {primitive}: index {index} (entry {entry} of accessor {accessor}) is out of range; the primitive has {vertex_count} vertices",
+        .path.display()
+    )]
+    IndexOutOfRange {
+        path: PathBuf,
+        mesh: MeshRef,
+        primitive: usize,
+        accessor: usize,
+        entry: usize,
+        index: u32,
+        vertex_count: usize,
+    },
+
+    #[error(
+        "{}: mesh {mesh} primitive {primitive}: vertex {vertex} has a non-finite position ({x}, {y}, {z})",
+        .path.display()
+    )]
+    NonFinitePosition {
+        path: PathBuf,
+        mesh: MeshRef,
+        primitive: usize,
+        vertex: usize,
+        x: f32,
+        y: f32,
+        z: f32,
+    },
+
+    #[error("{}: node {node} has a non-finite world transform", .path.display())]
+    NonFiniteTransform { path: PathBuf, node: usize },
+
+    #[error(
+        "{}: node {node}, mesh {mesh} primitive {primitive}: vertex {vertex} is non-finite after the node's world transform",
+        .path.display()
+    )]
+    NonFiniteWorldPosition {
+        path: PathBuf,
+        node: usize,
+        mesh: MeshRef,
+        primitive: usize,
+        vertex: usize,
+    },
+
+    #[error(
+        "{}: no triangles in the scene ({primitives} triangle primitive(s) loaded, {skipped} non-triangle primitive(s) skipped)",
+        .path.display()
+    )]
+    NoTriangles {
+        path: PathBuf,
+        primitives: usize,
+        skipped: usize,
+    },
+
+    #[error("{}: the scene has more than 2^32 - 1 vertices", .path.display())]
+    TooLarge { path: PathBuf },
+
+    #[error("{}: {error}", .path.display())]
+    Mesh { path: PathBuf, error: MeshError },
+}
+
+impl LoadError {
+    /// The file the error is about.
+    pub fn path(&self) -> &Path {
+        match self {
+            Self::Io { path, .. }
+            | Self::NotGltf { path, .. }
+            | Self::UnsupportedExtension { path, .. }
+            | Self::Invalid { path, .. }
+            | Self::Buffer { path, .. }
+            | Self::NodeGraph { path, .. }
+            | Self::MissingPosition { path, .. }
+            | Self::Accessor { path, .. }
+            | Self::IndexOutOfRange { path, .. }
+            | Self::NonFinitePosition { path, .. }
+            | Self::NonFiniteTransform { path, .. }
+            | Self::NonFiniteWorldPosition { path, .. }
+            | Self::NoTriangles { path, .. }
+            | Self::TooLarge { path }
+            | Self::Mesh { path, .. } => path,
+        }
+    }
+}
+
+/// A primitive that was not loaded because it is not made of triangles.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SkippedPrimitive {
+    /// The node that places the mesh.
+    pub node: usize,
+    pub mesh: MeshRef,
+    pub primitive: usize,
+    /// `POINTS`, `LINES`, `LINE_LOOP` or `LINE_STRIP`.
+    pub mode: &'static str,
+}
+
+impl fmt::Display for SkippedPrimitive {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "node {}, mesh {} primitive {}: {} primitive skipped (not triangles)",
+            self.node, self.mesh, self.primitive, self.mode
+        )
+    }
 }
 
 /// What was loaded and what was skipped.
 #[derive(Clone, Debug, Default)]
 pub struct LoadReport {
+    /// The scene loaded; `None` when the file has no scene and every root node was used.
+    pub scene: Option<usize>,
+    /// Nodes reached from the scene's roots.
+    pub nodes_visited: usize,
+    /// Nodes with a mesh, i.e. mesh instances placed.
     pub meshes: usize,
+    /// Different meshes among those instances.
+    pub distinct_meshes: usize,
+    /// Instances placed in bind pose because their node is skinned.
+    pub skinned_instances: usize,
+    /// Triangle primitives loaded (counted per instance).
     pub primitives: usize,
-    /// Human-readable notes on content that was skipped.
-    pub skipped: Vec<String>,
+    pub vertices: usize,
+    pub triangles: usize,
+    /// Strip/fan triangles dropped because they repeat an index.
+    pub degenerate_dropped: usize,
+    /// Primitives that are not triangles.
+    pub skipped: Vec<SkippedPrimitive>,
+    /// Other things worth knowing: ignored morph targets, stray indices, used extensions.
+    pub notes: Vec<String>,
 }
 
-/// Every triangle of the default scene, node transforms applied.
+/// Every triangle of the default scene (else the first scene, else all root
+/// nodes), node transforms applied, as one mesh. See the module docs.
 pub fn load_static_mesh(path: &Path) -> Result<(TriMesh, LoadReport), LoadError> {
-    Err(LoadError::Other { path: path.to_owned(), message: "not implemented".into() })
+    let bytes = std::fs::read(path).map_err(|error| LoadError::Io {
+        path: path.to_owned(),
+        error,
+    })?;
+    let (document, blob) = parse(path, &bytes)?;
+    let buffers = load_buffers(path, &document, blob)?;
+    let mut loader = Loader {
+        path,
+        buffers: &buffers,
+        positions: Vec::new(),
+        triangles: Vec::new(),
+        report: LoadReport::default(),
+    };
+    for extension in document.extensions_used() {
+        loader.report.notes.push(format!(
+            "extension {extension} is used but not required; its data is ignored"
+        ));
+    }
+    loader.walk(&document)?;
+    let Loader {
+        positions,
+        triangles,
+        mut report,
+        ..
+    } = loader;
+    if triangles.is_empty() {
+        return Err(LoadError::NoTriangles {
+            path: path.to_owned(),
+            primitives: report.primitives,
+            skipped: report.skipped.len(),
+        });
+    }
+    report.vertices = positions.len();
+    report.triangles = triangles.len();
+    let mesh = TriMesh::new(positions, triangles).map_err(|error| LoadError::Mesh {
+        path: path.to_owned(),
+        error,
+    })?;
+    Ok((mesh, report))
+}
+
+/// Splits GLB or reads JSON, refuses required extensions, validates.
+fn parse(path: &Path, bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), LoadError> {
+    let not_gltf = |reason: String| LoadError::NotGltf {
+        path: path.to_owned(),
+        reason: one_line(&reason),
+    };
+    let (root, blob): (gltf::json::Root, Option<Vec<u8>>) = if bytes.starts_with(b"glTF") {
+        // gltf's GLB reader subtracts 12 from the declared length unchecked.
+        let declared = bytes
+            .get(8..12)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        if !matches!(declared, Some(n) if n >= 12) {
+            return Err(not_gltf("truncated or corrupt GLB header".into()));
+        }
+        let glb = gltf::Glb::from_slice(bytes)
+            .map_err(|e| not_gltf(format!("bad GLB container: {e}")))?;
+        let root = gltf::json::deserialize::from_slice(&glb.json)
+            .map_err(|e| not_gltf(format!("bad JSON chunk: {e}")))?;
+        (root, glb.bin.map(|b| b.into_owned()))
+    } else {
+        let root = gltf::json::deserialize::from_slice(bytes)
+            .map_err(|e| not_gltf(format!("neither GLB nor glTF JSON ({e})")))?;
+        (root, None)
+    };
+    if !root.asset.version.starts_with("2.") {
+        return Err(not_gltf(format!(
+            "asset version {:?} is not 2.x",
+            root.asset.version
+        )));
+    }
+    if !root.extensions_required.is_empty() {
+        return Err(LoadError::UnsupportedExtension {
+            path: path.to_owned(),
+            extensions: root
+                .extensions_required
+                .iter()
+                .map(|e| one_line(e))
+                .collect(),
+        });
+    }
+    validate(path, &root)?;
+    let document = gltf::Document::from_json_without_validation(root);
+    Ok((document, blob))
+}
+
+/// gltf's validation, which makes every index in the document safe to follow,
+/// minus two checks this loader does not need: `min`/`max` on `POSITION`
+/// accessors (often missing in the wild) and a missing `POSITION` (reported
+/// later with mesh and primitive, and harmless on skipped primitives).
+fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadError> {
+    use gltf::json::validation::{Checked, Error, Validate};
+    let invalid = |reason: String| LoadError::Invalid {
+        path: path.to_owned(),
+        reason: one_line(&reason),
+    };
+    // gltf's own validation indexes the accessor list with POSITION unchecked.
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive
+                .attributes
+                .get(&Checked::Valid(gltf::json::mesh::Semantic::Positions));
+            if let Some(accessor) = position.filter(|a| a.value() >= root.accessors.len()) {
+                return Err(invalid(format!(
+                    "mesh {m} primitive {p}: POSITION refers to accessor {}, which does not exist",
+                    accessor.value()
+                )));
+            }
+        }
+    }
+    let mut errors: Vec<String> = Vec::new();
+    root.validate(
+        root,
+        gltf::json::Path::new,
+        &mut |at: &dyn Fn() -> gltf::json::Path, error: Error| {
+            let at = at();
+            let at = at.as_str();
+            let tolerated = at.ends_with("[\"POSITION\"].min")
+                || at.ends_with("[\"POSITION\"].max")
+                || (at.ends_with("attributes[\"POSITION\"]") && error == Error::Missing);
+            if !tolerated {
+                errors.push(format!("{at}: {error}"));
+            }
+        },
+    );
+    if errors.is_empty() {
+        return Ok(());
+    }
+    let more = errors.len().saturating_sub(3);
+    errors.truncate(3);
+    if more > 0 {
+        errors.push(format!("and {more} more"));
+    }
+    Err(invalid(errors.join("; ")))
+}
+
+/// The bytes of every buffer: the GLB binary chunk, a `data:` URI, or a file
+/// relative to the glTF file.
+fn load_buffers(
+    path: &Path,
+    document: &gltf::Document,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Data>, LoadError> {
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let fail = |reason: String| LoadError::Buffer {
+            path: path.to_owned(),
+            buffer: buffer.index(),
+            reason: one_line(&reason),
+        };
+        let data = match buffer.source() {
+            Source::Bin => blob
+                .take()
+                .ok_or_else(|| fail("refers to the GLB binary chunk, which is missing".into()))?,
+            Source::Uri(uri) if uri.starts_with("data:") => {
+                Data::from_source(Source::Uri(uri), None)
+                    .map_err(|e| fail(format!("bad data URI: {e}")))?
+                    .0
+            }
+            Source::Uri(uri) => {
+                let file = if let Some(rest) = uri
+                    .strip_prefix("file://")
+                    .or_else(|| uri.strip_prefix("file:"))
+                {
+                    PathBuf::from(rest)
+                } else if uri.contains(':') {
+                    return Err(fail(format!("unsupported URI scheme in {uri:?}")));
+                } else {
+                    let relative = percent_decode(uri)
+                        .ok_or_else(|| fail(format!("bad percent-encoding in URI {uri:?}")))?;
+                    base.join(relative)
+                };
+                std::fs::read(&file)
+                    .map_err(|e| fail(format!("cannot read {}: {e}", file.display())))?
+            }
+        };
+        if data.len() < buffer.length() {
+            return Err(fail(format!(
+                "declares {} bytes but has {}",
+                buffer.length(),
+                data.len()
+            )));
+        }
+        buffers.push(Data(data));
+    }
+    Ok(buffers)
+}
+
+/// `%XX` escapes decoded; `None` if an escape is malformed or the result is not UTF-8.
+fn percent_decode(uri: &str) -> Option<String> {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(bytes[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+struct Loader<'a> {
+    path: &'a Path,
+    buffers: &'a [Data],
+    positions: Vec<Point>,
+    triangles: Vec<[u32; 3]>,
+    report: LoadReport,
+}
+
+impl Loader<'_> {
+    /// Depth-first over the chosen roots, parents before children, in file order.
+    fn walk(&mut self, document: &gltf::Document) -> Result<(), LoadError> {
+        let scene = document
+            .default_scene()
+            .or_else(|| document.scenes().next());
+        self.report.scene = scene.as_ref().map(|s| s.index());
+        let roots: Vec<gltf::Node> = match &scene {
+            Some(scene) => scene.nodes().collect(),
+            None => {
+                let mut is_child = vec![false; document.nodes().len()];
+                for node in document.nodes() {
+                    for child in node.children() {
+                        if let Some(flag) = is_child.get_mut(child.index()) {
+                            *flag = true;
+                        }
+                    }
+                }
+                document
+                    .nodes()
+                    .filter(|n| !is_child.get(n.index()).copied().unwrap_or(false))
+                    .collect()
+            }
+        };
+        // Marking nodes when pushed rejects cycles and shared subtrees, and bounds the work.
+        let mut reached = vec![false; document.nodes().len()];
+        let mut stack: Vec<(gltf::Node, Matrix4<f64>)> = Vec::new();
+        for node in roots.into_iter().rev() {
+            self.reach(&mut reached, node.index())?;
+            stack.push((node, Matrix4::identity()));
+        }
+        let mut meshes_seen = vec![false; document.meshes().len()];
+        while let Some((node, parent)) = stack.pop() {
+            self.report.nodes_visited += 1;
+            let world = parent * local_matrix(&node);
+            if let Some(mesh) = node.mesh() {
+                if let Some(seen) = meshes_seen.get_mut(mesh.index())
+                    && !*seen
+                {
+                    *seen = true;
+                    self.report.distinct_meshes += 1;
+                }
+                self.report.meshes += 1;
+                let placement = if node.skin().is_some() {
+                    self.report.skinned_instances += 1;
+                    Matrix4::identity()
+                } else {
+                    world
+                };
+                if !placement.iter().all(|c| c.is_finite()) {
+                    return Err(LoadError::NonFiniteTransform {
+                        path: self.path.to_owned(),
+                        node: node.index(),
+                    });
+                }
+                self.add_mesh(node.index(), &mesh, &placement)?;
+            }
+            let children: Vec<gltf::Node> = node.children().collect();
+            for child in children.into_iter().rev() {
+                self.reach(&mut reached, child.index())?;
+                stack.push((child, world));
+            }
+        }
+        Ok(())
+    }
+
+    fn reach(&self, reached: &mut [bool], node: usize) -> Result<(), LoadError> {
+        match reached.get_mut(node) {
+            Some(flag) if !*flag => {
+                *flag = true;
+                Ok(())
+            }
+            _ => Err(LoadError::NodeGraph {
+                path: self.path.to_owned(),
+                node,
+            }),
+        }
+    }
+
+    fn add_mesh(
+        &mut self,
+        node: usize,
+        mesh: &gltf::Mesh<'_>,
+        placement: &Matrix4<f64>,
+    ) -> Result<(), LoadError> {
+        let mesh_ref = MeshRef {
+            index: mesh.index(),
+            name: mesh.name().map(str::to_owned),
+        };
+        for primitive in mesh.primitives() {
+            let p = primitive.index();
+            let mode = match primitive.mode() {
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => primitive.mode(),
+                other => {
+                    let mode = match other {
+                        Mode::Points => "POINTS",
+                        Mode::Lines => "LINES",
+                        Mode::LineLoop => "LINE_LOOP",
+                        _ => "LINE_STRIP",
+                    };
+                    self.report.skipped.push(SkippedPrimitive {
+                        node,
+                        mesh: mesh_ref.clone(),
+                        primitive: p,
+                        mode,
+                    });
+                    continue;
+                }
+            };
+            let accessor_error = |accessor: usize, reason: String| LoadError::Accessor {
+                path: self.path.to_owned(),
+                mesh: mesh_ref.clone(),
+                primitive: p,
+                accessor,
+                reason: one_line(&reason),
+            };
+            let position_accessor =
+                primitive
+                    .get(&Semantic::Positions)
+                    .ok_or_else(|| LoadError::MissingPosition {
+                        path: self.path.to_owned(),
+                        mesh: mesh_ref.clone(),
+                        primitive: p,
+                    })?;
+            let stored = gltf_accessor::read_positions(&position_accessor, self.buffers)
+                .map_err(|reason| accessor_error(position_accessor.index(), reason))?;
+            if let Some((vertex, &[x, y, z])) = stored
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
+            {
+                return Err(LoadError::NonFinitePosition {
+                    path: self.path.to_owned(),
+                    mesh: mesh_ref.clone(),
+                    primitive: p,
+                    vertex,
+                    x,
+                    y,
+                    z,
+                });
+            }
+            let base = self.positions.len();
+            if base + stored.len() > u32::MAX as usize {
+                return Err(LoadError::TooLarge {
+                    path: self.path.to_owned(),
+                });
+            }
+            let indices = match primitive.indices() {
+                Some(accessor) => {
+                    let indices = gltf_accessor::read_indices(&accessor, self.buffers)
+                        .map_err(|reason| accessor_error(accessor.index(), reason))?;
+                    if let Some((entry, &index)) = indices
+                        .iter()
+                        .enumerate()
+                        .find(|(_, i)| **i as usize >= stored.len())
+                    {
+                        return Err(LoadError::IndexOutOfRange {
+                            path: self.path.to_owned(),
+                            mesh: mesh_ref.clone(),
+                            primitive: p,
+                            accessor: accessor.index(),
+                            entry,
+                            index,
+                            vertex_count: stored.len(),
+                        });
+                    }
+                    indices
+                }
+                // Fits: base + stored.len() <= u32::MAX was checked above.
+                None => (0..stored.len() as u32).collect(),
+            };
+            let targets = primitive.morph_targets().len();
+            if targets > 0 {
+                self.report.notes.push(format!(
+                    "node {node}, mesh {mesh_ref} primitive {p}: {targets} morph target(s) ignored, positions as stored"
+                ));
+            }
+            for (vertex, v) in stored.iter().enumerate() {
+                let w = placement.transform_point(&Point3::new(
+                    f64::from(v[0]),
+                    f64::from(v[1]),
+                    f64::from(v[2]),
+                ));
+                let w = Point::new(w.x as f32, w.y as f32, w.z as f32);
+                if !w.iter().all(|c| c.is_finite()) {
+                    return Err(LoadError::NonFiniteWorldPosition {
+                        path: self.path.to_owned(),
+                        node,
+                        mesh: mesh_ref.clone(),
+                        primitive: p,
+                        vertex,
+                    });
+                }
+                self.positions.push(w);
+            }
+            let before = self.triangles.len();
+            let offset = base as u32;
+            let (leftover, degenerate) = assemble(mode, &indices, |t| {
+                self.triangles
+                    .push([t[0] + offset, t[1] + offset, t[2] + offset]);
+            });
+            self.report.degenerate_dropped += degenerate;
+            if leftover > 0 {
+                self.report.notes.push(format!(
+                    "node {node}, mesh {mesh_ref} primitive {p}: {} indices is not a multiple of 3; last {leftover} ignored",
+                    indices.len()
+                ));
+            }
+            if self.triangles.len() == before {
+                self.report.notes.push(format!(
+                    "node {node}, mesh {mesh_ref} primitive {p}: no triangles"
+                ));
+            }
+            self.report.primitives += 1;
+        }
+        Ok(())
+    }
+}
+
+/// A node's local transform. Rotations are normalised (the spec requires unit
+/// quaternions); a zero quaternion yields NaN, reported as a non-finite transform.
+fn local_matrix(node: &gltf::Node<'_>) -> Matrix4<f64> {
+    match node.transform() {
+        // glTF matrices are column-major: matrix[column][row].
+        Transform::Matrix { matrix } => Matrix4::from_fn(|r, c| f64::from(matrix[c][r])),
+        Transform::Decomposed {
+            translation: t,
+            rotation: q,
+            scale: s,
+        } => {
+            let v = |a: [f32; 3]| Vector3::new(f64::from(a[0]), f64::from(a[1]), f64::from(a[2]));
+            let rotation = UnitQuaternion::from_quaternion(Quaternion::new(
+                f64::from(q[3]),
+                f64::from(q[0]),
+                f64::from(q[1]),
+                f64::from(q[2]),
+            ));
+            Matrix4::new_translation(&v(t))
+                * rotation.to_homogeneous()
+                * Matrix4::new_nonuniform_scaling(&v(s))
+        }
+    }
+}
+
+/// Emits the triangles of `indices` under `mode` (a triangle mode) with the
+/// glTF winding. Returns (indices left over in `TRIANGLES`, strip/fan
+/// triangles dropped for repeating an index).
+fn assemble(mode: Mode, indices: &[u32], mut emit: impl FnMut([u32; 3])) -> (usize, usize) {
+    if !matches!(mode, Mode::TriangleStrip | Mode::TriangleFan) {
+        let chunks = indices.chunks_exact(3);
+        let leftover = chunks.remainder().len();
+        for t in chunks {
+            emit([t[0], t[1], t[2]]);
+        }
+        return (leftover, 0);
+    }
+    let mut degenerate = 0;
+    let mut keep = |t: [u32; 3]| {
+        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+            degenerate += 1;
+        } else {
+            emit(t);
+        }
+    };
+    if mode == Mode::TriangleStrip {
+        // Spec: triangle i is (v_i, v_{i+1+i%2}, v_{i+2-i%2}).
+        for (i, w) in indices.windows(3).enumerate() {
+            keep(if i % 2 == 0 {
+                [w[0], w[1], w[2]]
+            } else {
+                [w[0], w[2], w[1]]
+            });
+        }
+    } else if let Some((&first, rest)) = indices.split_first() {
+        // Spec: triangle i is (v_{i+1}, v_{i+2}, v_0).
+        for w in rest.windows(2) {
+            keep([w[0], w[1], first]);
+        }
+    }
+    (0, degenerate)
 }

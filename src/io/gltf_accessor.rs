@@ -1,0 +1,211 @@
+//! Bounds-checked reading of the two kinds of glTF accessor the static loader
+//! needs: `POSITION` (VEC3 FLOAT) and indices (SCALAR unsigned byte/short/int),
+//! dense or sparse.
+//!
+//! Every offset, stride and count comes from the file, so all arithmetic is
+//! checked and every range is verified before it is read; a bad accessor is an
+//! `Err` with a one-line reason, never a panic.
+
+use gltf::accessor::{Accessor, DataType, Dimensions};
+use gltf::buffer::{Data, View};
+
+/// Most elements an accessor without a buffer view (all zeros, perhaps with
+/// sparse overrides) may declare: nothing bounds its count by real data, so a
+/// hostile count could otherwise request an absurd allocation.
+const MAX_ELEMENTS_WITHOUT_VIEW: usize = 1 << 24;
+
+/// The positions of a `POSITION` accessor, which core glTF 2.0 requires to be
+/// VEC3 FLOAT (other types need `KHR_mesh_quantization`, which is refused earlier).
+pub(crate) fn read_positions(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+) -> Result<Vec<[f32; 3]>, String> {
+    if accessor.dimensions() != Dimensions::Vec3
+        || accessor.data_type() != DataType::F32
+        || accessor.normalized()
+    {
+        return Err(format!(
+            "POSITION must be VEC3 FLOAT, found {:?} {:?}{}",
+            accessor.dimensions(),
+            accessor.data_type(),
+            if accessor.normalized() {
+                " normalized"
+            } else {
+                ""
+            }
+        ));
+    }
+    read_elements(accessor, 12, buffers, [0.0; 3], |b| {
+        [le_f32(&b[0..4]), le_f32(&b[4..8]), le_f32(&b[8..12])]
+    })
+}
+
+/// The values of an index accessor, widened to `u32`.
+pub(crate) fn read_indices(accessor: &Accessor<'_>, buffers: &[Data]) -> Result<Vec<u32>, String> {
+    if accessor.dimensions() != Dimensions::Scalar {
+        return Err(format!(
+            "indices must be SCALAR, found {:?}",
+            accessor.dimensions()
+        ));
+    }
+    match accessor.data_type() {
+        DataType::U8 => read_elements(accessor, 1, buffers, 0, |b| u32::from(b[0])),
+        DataType::U16 => read_elements(accessor, 2, buffers, 0, |b| {
+            u32::from(u16::from_le_bytes([b[0], b[1]]))
+        }),
+        DataType::U32 => read_elements(accessor, 4, buffers, 0, |b| {
+            u32::from_le_bytes([b[0], b[1], b[2], b[3]])
+        }),
+        other => Err(format!(
+            "indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, found {other:?}"
+        )),
+    }
+}
+
+fn le_f32(b: &[u8]) -> f32 {
+    f32::from_le_bytes([b[0], b[1], b[2], b[3]])
+}
+
+/// Reads `accessor.count()` elements of `size` bytes each (base data, else
+/// zeros), then applies its sparse substitutions, if any.
+fn read_elements<T: Copy>(
+    accessor: &Accessor<'_>,
+    size: usize,
+    buffers: &[Data],
+    zero: T,
+    decode: impl Fn(&[u8]) -> T,
+) -> Result<Vec<T>, String> {
+    let count = accessor.count();
+    let mut out = match accessor.view() {
+        Some(view) => {
+            let elements = Strided::new(
+                view_bytes(&view, buffers)?,
+                accessor.offset(),
+                view.stride(),
+                size,
+                count,
+            )
+            .map_err(|e| format!("buffer view {}: {e}", view.index()))?;
+            (0..count).map(|i| decode(elements.get(i))).collect()
+        }
+        None if count <= MAX_ELEMENTS_WITHOUT_VIEW => vec![zero; count],
+        None => {
+            return Err(format!(
+                "has no buffer view but declares {count} elements (at most {MAX_ELEMENTS_WITHOUT_VIEW} are accepted)"
+            ));
+        }
+    };
+    if let Some(sparse) = accessor.sparse() {
+        let n = sparse.count();
+        let indices = sparse.indices();
+        let index_size = indices.index_type().size();
+        let index_view = indices.view();
+        let index_elements = Strided::new(
+            view_bytes(&index_view, buffers)?,
+            indices.offset(),
+            None,
+            index_size,
+            n,
+        )
+        .map_err(|e| format!("sparse indices (buffer view {}): {e}", index_view.index()))?;
+        let values = sparse.values();
+        let value_view = values.view();
+        let value_elements = Strided::new(
+            view_bytes(&value_view, buffers)?,
+            values.offset(),
+            None,
+            size,
+            n,
+        )
+        .map_err(|e| format!("sparse values (buffer view {}): {e}", value_view.index()))?;
+        for k in 0..n {
+            let b = index_elements.get(k);
+            let i = match index_size {
+                1 => usize::from(b[0]),
+                2 => usize::from(u16::from_le_bytes([b[0], b[1]])),
+                _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize,
+            };
+            let slot = out.get_mut(i).ok_or_else(|| {
+                format!("sparse index {i} (entry {k}) is out of range; the accessor has {count} elements")
+            })?;
+            *slot = decode(value_elements.get(k));
+        }
+    }
+    Ok(out)
+}
+
+/// The bytes of a buffer view, checked against the loaded buffer.
+fn view_bytes<'b>(view: &View<'_>, buffers: &'b [Data]) -> Result<&'b [u8], String> {
+    let buffer = view.buffer().index();
+    let data = buffers.get(buffer).ok_or_else(|| {
+        format!(
+            "buffer view {} refers to buffer {buffer}, which was not loaded",
+            view.index()
+        )
+    })?;
+    let (start, length) = (view.offset(), view.length());
+    start
+        .checked_add(length)
+        .and_then(|end| data.get(start..end))
+        .ok_or_else(|| {
+            format!(
+                "buffer view {} (offset {start}, length {length}) extends past the end of buffer {buffer} ({} bytes)",
+                view.index(),
+                data.len()
+            )
+        })
+}
+
+/// `count` elements of `size` bytes, `stride` bytes apart from `offset`, all
+/// verified to lie inside `bytes` at construction.
+struct Strided<'b> {
+    bytes: &'b [u8],
+    offset: usize,
+    stride: usize,
+    size: usize,
+}
+
+impl<'b> Strided<'b> {
+    fn new(
+        bytes: &'b [u8],
+        offset: usize,
+        stride: Option<usize>,
+        size: usize,
+        count: usize,
+    ) -> Result<Self, String> {
+        let stride = stride.unwrap_or(size);
+        if stride < size {
+            return Err(format!(
+                "byteStride {stride} is smaller than the element size {size}"
+            ));
+        }
+        if count > 0 {
+            let needed = (count - 1)
+                .checked_mul(stride)
+                .and_then(|n| n.checked_add(size))
+                .and_then(|n| n.checked_add(offset));
+            match needed {
+                Some(needed) if needed <= bytes.len() => {}
+                _ => {
+                    return Err(format!(
+                        "{count} elements of {size} bytes (stride {stride}, offset {offset}) do not fit in its {} bytes",
+                        bytes.len()
+                    ));
+                }
+            }
+        }
+        Ok(Self {
+            bytes,
+            offset,
+            stride,
+            size,
+        })
+    }
+
+    /// Element `i`; `i` must be below the `count` given to [`Strided::new`],
+    /// which proved `offset + i * stride + size <= bytes.len()`.
+    fn get(&self, i: usize) -> &'b [u8] {
+        let start = self.offset + i * self.stride;
+        &self.bytes[start..start + self.size]
+    }
+}
