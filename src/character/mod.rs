@@ -7,14 +7,17 @@
 //! | [`model`] | [`Character`] and reusable [`PoseBuffers`] | §3 |
 //! | [`clip`] | [`Clip`]: keyframed channels (STEP, LINEAR, CUBICSPLINE) sampled at any time | |
 //! | [`skinning`] | glTF linear blend skinning and the paper's one-joint model, with the conversion | §3 |
+//! | [`humanoid`] | procedural humanoid: 22-joint skeleton, closed skinned surface of any vertex count, walk/reach/turn clips | §3, §6 |
 
 pub mod clip;
+pub mod humanoid;
 pub mod model;
 pub mod skeleton;
 pub mod skinning;
 pub mod transform;
 
 pub use model::{Character, PoseBuffers, UnknownClip};
+pub use humanoid::{HumanoidError, HumanoidParams, generate_humanoid};
 pub use clip::{Channel, ChannelValues, Clip, Interpolation};
 pub use skeleton::{Joint, JointId, Skeleton, SkeletonError};
 pub use skinning::{Influences, PaperBinding, SkinningModel};
