@@ -127,8 +127,8 @@ pub fn extremities(skeleton: &Skeleton, owned: &[usize]) -> Vec<Extremity> {
             trunk[r.index()] = true;
         }
     }
-    for j in 0..n {
-        if children[j].iter().filter(|c| big(c)).count() >= 2 {
+    for (j, kids) in children.iter().enumerate() {
+        if kids.iter().filter(|c| big(c)).count() >= 2 {
             // Mark the path from this major branch up to its root.
             let mut k = Some(JointId(j as u16));
             while let Some(x) = k {

@@ -64,12 +64,12 @@ impl SphereTree {
             return Err(TreeError::BadParent { node: orphan as u32 });
         }
         if checks.nested {
-            for c in 1..n {
-                let (p, child) = (&self.nodes[parent[c] as usize], &self.nodes[c]);
+            for (c, &pc) in parent.iter().enumerate().skip(1) {
+                let (p, child) = (&self.nodes[pc as usize], &self.nodes[c]);
                 if !p.sphere.contains_sphere(&child.sphere, checks.tolerance as f32) {
                     let d = crate::geometry::sphere::distance_f64(&p.sphere.center, &child.sphere.center);
                     let excess = d + child.sphere.radius as f64 - p.sphere.radius as f64;
-                    return Err(TreeError::NotNested { parent: parent[c], child: c as u32, excess });
+                    return Err(TreeError::NotNested { parent: pc, child: c as u32, excess });
                 }
             }
         }
