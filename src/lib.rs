@@ -9,12 +9,14 @@
 //! | [`geometry`] | points, spheres, triangles; the tests of the operation model; enclosing spheres; exact oracle | §2, §3, §5, §6 |
 //! | [`mesh`] | indexed triangle meshes; edge de-duplication | §4 |
 //! | [`sphere_tree`] | sphere-tree build, n-ary collapse, validation, simultaneous traversal | §3 |
+//! | [`big_triangle`] | sphere division, corner-trees and quaternary trees inside big triangles | §4–5 |
 //! | [`character`] | skeletons, clips, skinning models | §3 |
 //! | [`io`] | glTF loading | |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
 
+pub mod big_triangle;
 pub mod character;
 pub mod geometry;
 pub mod io;

@@ -1,0 +1,200 @@
+//! Sphere hierarchies inside one big triangle (§5).
+//!
+//! - [`DivisionKind::Full`]: every sub-triangle whose longest edge exceeds the
+//!   threshold splits in four (Fig. 2). Answered at the leaves by the
+//!   triangle-triangle test this is the paper's *sphere division*; with the
+//!   plane-sphere test it is the *quaternary tree* the paper argues against.
+//! - [`DivisionKind::Corner`]: only sub-triangles with an edge on the original
+//!   triangle's boundary split again; the central piece of every split is a
+//!   leaf (Fig. 3). Level n holds 1, 4, 12, 36, 84, … spheres (Table 1).
+//!
+//! Every node's sphere is the minimal sphere of its sub-triangle, grown by a few
+//! `f32` ulps of the triangle's extent so that midpoint rounding can never leave
+//! a sliver of the original triangle outside every leaf. Leaves point back to the
+//! original triangle (their primitive).
+
+use crate::geometry::enclosing::triangle_sphere;
+use crate::geometry::{Real, Triangle};
+use crate::mesh::TriangleId;
+use crate::sphere_tree::{Node, NodeId, SphereTree};
+
+use super::SubTriangle;
+
+/// Which sub-triangles split again.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DivisionKind {
+    /// All of them (quaternary tree).
+    Full,
+    /// Only those with an edge on the original boundary (corner-tree).
+    Corner,
+}
+
+/// Default cap on levels, so a tiny threshold cannot exhaust memory
+/// (a full tree of 10 levels has 349,525 nodes).
+pub const MAX_LEVELS: usize = 10;
+
+/// The hierarchy of one big triangle.
+#[derive(Clone, Debug)]
+pub struct Division {
+    pub kind: DivisionKind,
+    pub original: TriangleId,
+    /// Sub-triangle spheres, breadth first; leaves hold `original`.
+    pub tree: SphereTree,
+    /// The sub-triangle of every node.
+    pub pieces: Vec<SubTriangle>,
+    /// Whether [`MAX_LEVELS`] (or the given cap) stopped splitting early.
+    pub capped: bool,
+}
+
+/// Why a division is malformed.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum DivisionError {
+    #[error("node {node}: its sub-triangle sticks out of its sphere")]
+    PieceOutside { node: u32 },
+    #[error("node {node}: children's areas sum to {sum}, the piece has {area}")]
+    ChildrenDoNotTile { node: u32, sum: f64, area: f64 },
+    #[error("leaves' areas sum to {sum}, the original triangle has {area}")]
+    LeavesDoNotTile { sum: f64, area: f64 },
+    #[error("leaf {node} points to triangle {got}, not {expected}")]
+    WrongPrimitive { node: u32, got: u32, expected: u32 },
+}
+
+impl Division {
+    /// Builds the hierarchy of `t` (triangle `id` of its mesh): a piece splits
+    /// while its longest edge exceeds `threshold` (and, for a corner-tree, it
+    /// has a boundary edge), up to `max_levels` levels.
+    pub fn build(t: &Triangle, id: TriangleId, kind: DivisionKind, threshold: Real, max_levels: usize) -> Self {
+        let slack = slack(t);
+        let mut pieces = vec![SubTriangle::whole(*t)];
+        let mut level = vec![1usize];
+        let mut nodes = Vec::new();
+        let mut capped = false;
+        let mut i = 0;
+        while i < pieces.len() {
+            let piece = pieces[i];
+            let mut sphere = triangle_sphere(&piece.triangle);
+            sphere.radius += slack;
+            let wants = piece.triangle.longest_edge() > threshold
+                && (kind == DivisionKind::Full || piece.touches_boundary());
+            if wants && level[i] >= max_levels {
+                capped = true;
+            }
+            if wants && level[i] < max_levels {
+                let first = NodeId(pieces.len() as u32);
+                pieces.extend(piece.split());
+                level.extend([level[i] + 1; 4]);
+                nodes.push(Node::inner(sphere, first, 4));
+            } else {
+                nodes.push(Node::leaf(sphere, id.0));
+            }
+            i += 1;
+        }
+        Self { kind, original: id, tree: SphereTree::from_nodes(nodes), pieces, capped }
+    }
+
+    /// Checks that every sphere holds its piece, children tile their parent and
+    /// leaves tile the original triangle (areas within `1e-6` relative), and
+    /// that leaves point to the original.
+    pub fn validate(&self) -> Result<(), DivisionError> {
+        let area = |p: &SubTriangle| area_f64(&p.triangle);
+        let total = area(&self.pieces[0]);
+        let tol = 1e-6 * total.max(f64::MIN_POSITIVE);
+        let mut leaves = 0.0;
+        for (i, (node, piece)) in self.tree.nodes().iter().zip(&self.pieces).enumerate() {
+            if !piece.triangle.vertices().iter().all(|v| node.sphere.contains_point(v, 0.0)) {
+                return Err(DivisionError::PieceOutside { node: i as u32 });
+            }
+            match node.primitive() {
+                Some(p) if p != self.original.0 => {
+                    return Err(DivisionError::WrongPrimitive { node: i as u32, got: p, expected: self.original.0 });
+                }
+                Some(_) => leaves += area(piece),
+                None => {
+                    let sum: f64 = node.children().map(|c| area(&self.pieces[c as usize])).sum();
+                    if (sum - area(piece)).abs() > tol {
+                        return Err(DivisionError::ChildrenDoNotTile { node: i as u32, sum, area: area(piece) });
+                    }
+                }
+            }
+        }
+        if (leaves - total).abs() > tol {
+            return Err(DivisionError::LeavesDoNotTile { sum: leaves, area: total });
+        }
+        Ok(())
+    }
+
+    /// Nodes per level, root first.
+    pub fn nodes_per_level(&self) -> Vec<usize> {
+        self.tree.nodes_per_level()
+    }
+}
+
+/// A few ulps of the triangle's coordinate magnitude.
+fn slack(t: &Triangle) -> Real {
+    let m = t.vertices().iter().flat_map(|p| p.iter().map(|c| c.abs())).fold(0.0, Real::max);
+    4.0 * Real::EPSILON * (m + t.longest_edge())
+}
+
+fn area_f64(t: &Triangle) -> f64 {
+    let w = |p: &crate::geometry::Point| p.coords.cast::<f64>();
+    let (a, b, c) = (w(&t.a), w(&t.b), w(&t.c));
+    0.5 * (b - a).cross(&(c - a)).norm()
+}
+
+/// Table 1, counted on trees actually built over `t`: spheres on levels
+/// 1..=`levels` for the corner-tree and the quaternary tree. The threshold is
+/// chosen between the longest edges of levels `levels - 1` and `levels` so
+/// both trees have exactly `levels` levels.
+pub fn table1(t: &Triangle, levels: usize) -> (Vec<usize>, Vec<usize>) {
+    assert!(levels >= 1);
+    let l = t.longest_edge();
+    // Longest edge of a level-k piece is l / 2^(k-1); split on levels < `levels`.
+    let threshold = l / 2f32.powi(levels as i32 - 1) * 1.5;
+    let corner = Division::build(t, TriangleId(0), DivisionKind::Corner, threshold, levels);
+    let full = Division::build(t, TriangleId(0), DivisionKind::Full, threshold, levels);
+    (corner.nodes_per_level(), full.nodes_per_level())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Point;
+
+    fn t() -> Triangle {
+        Triangle::new(Point::new(-2.0, 0.5, 1.0), Point::new(3.0, 0.0, 0.7), Point::new(0.4, 2.9, -1.3))
+    }
+
+    #[test]
+    fn table_1_by_construction() {
+        let (corner, quaternary) = table1(&t(), 7);
+        assert_eq!(corner, vec![1, 4, 12, 36, 84, 180, 372]);
+        assert_eq!(quaternary, vec![1, 4, 16, 64, 256, 1024, 4096]);
+    }
+
+    #[test]
+    fn divisions_validate() {
+        for kind in [DivisionKind::Full, DivisionKind::Corner] {
+            let d = Division::build(&t(), TriangleId(7), kind, 0.3, MAX_LEVELS);
+            d.validate().unwrap();
+            assert!(!d.capped);
+            assert!(d.pieces.iter().zip(d.tree.nodes()).all(|(p, n)| !n.is_leaf() || p.triangle.longest_edge() <= 0.3 || kind == DivisionKind::Corner));
+        }
+        // A small triangle stays one leaf.
+        let d = Division::build(&t(), TriangleId(0), DivisionKind::Full, 100.0, MAX_LEVELS);
+        assert_eq!(d.tree.len(), 1);
+        // A tiny threshold is capped.
+        let d = Division::build(&t(), TriangleId(0), DivisionKind::Full, 1e-6, 4);
+        assert!(d.capped);
+        assert_eq!(d.nodes_per_level(), vec![1, 4, 16, 64]);
+    }
+
+    #[test]
+    fn validator_catches_a_shrunk_sphere() {
+        let mut d = Division::build(&t(), TriangleId(0), DivisionKind::Corner, 0.5, MAX_LEVELS);
+        let mut nodes = d.tree.nodes().to_vec();
+        nodes[5].sphere.radius *= 0.5;
+        d.tree = SphereTree::from_nodes(nodes);
+        assert_eq!(d.validate(), Err(DivisionError::PieceOutside { node: 5 }));
+    }
+}
