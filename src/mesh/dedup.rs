@@ -10,11 +10,16 @@
 //! Edges are identified geometrically: vertices at the same position are welded
 //! first, so seams where glTF splits vertices (normals, UVs) still share edges.
 //!
-//! Choice of triangles (ours; the paper does not say): two greedy passes in
-//! index order. The first keeps triangles none of whose edges is covered yet
-//! (an edge-disjoint set, each covering three new edges); the second keeps any
-//! triangle that still has an uncovered edge. On a closed mesh at most half the
-//! triangles can go (each kept one covers at most 3 of the 1.5·F edges).
+//! Choice of triangles (ours; the paper does not say), three greedy passes in
+//! index order:
+//! 1. keep triangles none of whose edges is covered yet (an edge-disjoint set,
+//!    each covering three new edges);
+//! 2. keep any triangle that still has an uncovered edge;
+//! 3. drop again every kept triangle whose edges are all covered by at least
+//!    one *other* kept triangle (pass 2 can make earlier choices redundant).
+//!
+//! On a closed mesh at most half the triangles can go (each kept one covers at
+//! most 3 of the 1.5·F edges).
 
 use std::collections::HashMap;
 
@@ -84,14 +89,14 @@ pub fn weld_positions(mesh: &TriMesh) -> Vec<u32> {
 /// Undirected edge between welded vertices.
 type Edge = (u32, u32);
 
-/// The geometric edges of triangle `t` (degenerate edges, between welded-equal
-/// vertices, are not edges and are left out).
+/// The distinct geometric edges of triangle `tri` (degenerate edges, between
+/// welded-equal vertices, are not edges and are left out).
 pub fn triangle_edges(welded: &[u32], tri: &[u32; 3]) -> impl Iterator<Item = Edge> {
     let v = tri.map(|i| welded[i as usize]);
-    [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])]
-        .into_iter()
-        .filter(|(a, b)| a != b)
-        .map(|(a, b)| (a.min(b), a.max(b)))
+    let e = [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])].map(|(a, b)| (a != b).then(|| (a.min(b), a.max(b))));
+    // A repeated vertex makes two of the three edges the same edge.
+    let distinct = [e[0], e[1].filter(|x| Some(*x) != e[0]), e[2].filter(|x| Some(*x) != e[0] && Some(*x) != e[1])];
+    distinct.into_iter().flatten()
 }
 
 /// Chooses the triangles to keep (see the module doc).
@@ -113,6 +118,23 @@ pub fn dedup_edges(mesh: &TriMesh) -> EdgeDedup {
         if !kept[t] && triangle_edges(&welded, tri).any(|e| !covered.contains_key(&e)) {
             kept[t] = true;
             covered.extend(triangle_edges(&welded, tri).map(|e| (e, ())));
+        }
+    }
+    // Pass 3: drop kept triangles made redundant, keeping coverage counts.
+    let mut uses: HashMap<Edge, u32> = HashMap::with_capacity(covered.len());
+    for (t, tri) in tris.iter().enumerate() {
+        if kept[t] {
+            for e in triangle_edges(&welded, tri) {
+                *uses.entry(e).or_insert(0) += 1;
+            }
+        }
+    }
+    for (t, tri) in tris.iter().enumerate() {
+        if kept[t] && triangle_edges(&welded, tri).all(|e| uses[&e] >= 2) {
+            kept[t] = false;
+            for e in triangle_edges(&welded, tri) {
+                *uses.get_mut(&e).unwrap() -= 1;
+            }
         }
     }
     let kept_count = kept.iter().filter(|k| **k).count();
