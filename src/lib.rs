@@ -12,6 +12,7 @@
 //! | [`big_triangle`] | sphere division, corner-trees and quaternary trees inside big triangles | §4–5 |
 //! | [`character`] | skeletons, clips, skinning models | §3 |
 //! | [`io`] | glTF loading | |
+//! | [`pipeline`] | methods, the environment hierarchy per method | §5–6 |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
@@ -21,5 +22,6 @@ pub mod character;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
+pub mod pipeline;
 pub mod report;
 pub mod sphere_tree;

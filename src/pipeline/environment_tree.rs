@@ -1,0 +1,134 @@
+//! The environment's sphere tree for a method (§3, §5): a tree over every
+//! environment triangle, in which the leaf of each big triangle is replaced by
+//! that triangle's division (sphere division, quaternary or corner-tree).
+
+use crate::big_triangle::Division;
+use crate::big_triangle::hierarchy::MAX_LEVELS;
+use crate::geometry::Real;
+use crate::mesh::{TriMesh, TriangleId};
+use crate::sphere_tree::{BuildParams, Node, NodeId, SphereTree, build_tree};
+
+use super::Method;
+
+/// When a triangle is big: its longest edge exceeds this.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Threshold {
+    /// In model units (metres).
+    Absolute(Real),
+    /// A multiple of the character's mean leaf-sphere diameter.
+    LeafRelative(Real),
+}
+
+impl Threshold {
+    /// The threshold in model units, given the character's mean leaf radius.
+    pub fn resolve(self, mean_leaf_radius: Real) -> Real {
+        match self {
+            Threshold::Absolute(t) => t,
+            Threshold::LeafRelative(k) => k * 2.0 * mean_leaf_radius,
+        }
+    }
+}
+
+/// The environment hierarchy for one method.
+#[derive(Clone, Debug)]
+pub struct EnvironmentTree {
+    pub method: Method,
+    /// Threshold used, in model units.
+    pub threshold: Real,
+    pub tree: SphereTree,
+    /// Divisions of the big triangles (empty for [`Method::Original`]).
+    pub divisions: Vec<Division>,
+    /// For every node inside a division: (division, node in that division).
+    pub division_node: Vec<Option<(u32, u32)>>,
+    /// Whether each environment triangle is big.
+    pub big: Vec<bool>,
+    /// Whether a division stopped at the level cap somewhere.
+    pub capped: bool,
+}
+
+impl EnvironmentTree {
+    /// Builds the hierarchy of `mesh` for `method`.
+    pub fn build(mesh: &TriMesh, method: Method, threshold: Real, params: BuildParams) -> Self {
+        let all: Vec<TriangleId> = (0..mesh.triangle_count() as u32).map(TriangleId).collect();
+        let base = build_tree(mesh, &all, params);
+        let big: Vec<bool> = all.iter().map(|&t| mesh.triangle(t).longest_edge() > threshold).collect();
+        let Some(kind) = method.division() else {
+            let n = base.len();
+            return Self { method, threshold, tree: base, divisions: vec![], division_node: vec![None; n], big, capped: false };
+        };
+        let mut divisions = Vec::new();
+        let mut division_of = vec![u32::MAX; mesh.triangle_count()];
+        for &t in &all {
+            if big[t.index()] {
+                division_of[t.index()] = divisions.len() as u32;
+                divisions.push(Division::build(&mesh.triangle(t), t, kind, threshold, MAX_LEVELS));
+            }
+        }
+        let capped = divisions.iter().any(|d| d.capped);
+
+        // Breadth-first graft: a base leaf of a big triangle continues into its
+        // division (whose root replaces the leaf).
+        #[derive(Clone, Copy)]
+        enum From {
+            Base(u32),
+            Div(u32, u32),
+        }
+        let resolve = |f: From| -> (Node, From) {
+            match f {
+                From::Base(i) => {
+                    let n = *base.node(NodeId(i));
+                    match n.primitive() {
+                        Some(p) if division_of[p as usize] != u32::MAX => {
+                            let d = division_of[p as usize];
+                            (*divisions[d as usize].tree.node(NodeId::ROOT), From::Div(d, 0))
+                        }
+                        _ => (n, f),
+                    }
+                }
+                From::Div(d, i) => (*divisions[d as usize].tree.node(NodeId(i)), f),
+            }
+        };
+        let mut order = vec![From::Base(0)];
+        let mut nodes = Vec::with_capacity(base.len() + divisions.iter().map(|d| d.tree.len()).sum::<usize>());
+        let mut division_node = Vec::with_capacity(nodes.capacity());
+        let mut i = 0;
+        while i < order.len() {
+            let (src, from) = resolve(order[i]);
+            division_node.push(match from {
+                From::Div(d, k) => Some((d, k)),
+                From::Base(_) => None,
+            });
+            if src.is_leaf() {
+                nodes.push(src);
+            } else {
+                let first = NodeId(order.len() as u32);
+                for c in src.children() {
+                    order.push(match from {
+                        From::Base(_) => From::Base(c),
+                        From::Div(d, _) => From::Div(d, c),
+                    });
+                }
+                nodes.push(Node::inner(src.sphere, first, src.child_count()));
+            }
+            i += 1;
+        }
+        Self { method, threshold, tree: SphereTree::from_nodes(nodes), divisions, division_node, big, capped }
+    }
+
+    /// Whether node `id` is a leaf of a big triangle's division.
+    #[inline]
+    pub fn is_division_leaf(&self, id: NodeId) -> bool {
+        self.division_node[id.index()].is_some() && self.tree.node(id).is_leaf()
+    }
+
+    /// Number of big triangles.
+    pub fn big_count(&self) -> usize {
+        self.big.iter().filter(|b| **b).count()
+    }
+
+    /// Bytes of the sphere hierarchy (nodes).
+    pub fn bytes(&self) -> usize {
+        self.tree.bytes()
+    }
+}
