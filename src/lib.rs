@@ -12,6 +12,7 @@
 //! | [`big_triangle`] | sphere division, corner-trees and quaternary trees inside big triangles | §4–5 |
 //! | [`character`] | skeletons, clips, skinning models | §3 |
 //! | [`io`] | glTF loading | |
+//! | [`environment`] | generated rooms (museum, living room) of big and small triangles, moving doors; static glTF scenes | §4, §6 |
 //! | [`pipeline`] | methods, the environment hierarchy per method | §5–6 |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
 //!
@@ -19,6 +20,7 @@
 
 pub mod big_triangle;
 pub mod character;
+pub mod environment;
 pub mod geometry;
 pub mod io;
 pub mod mesh;
