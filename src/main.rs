@@ -1,11 +1,13 @@
 //! `cornertree` command-line front: parse, call into the library, print.
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use cornertree::io::load_static_mesh;
+use cornertree::character::{Character, SkinningModel, generate_humanoid};
+use cornertree::io::{CharacterSource, load_character, load_static_mesh};
+use cornertree::mesh::TriMesh;
+use cornertree::report::animate::{AnimateOptions, RefitReport, animate};
 use cornertree::report::inspect::{InspectOptions, inspect_mesh};
 use cornertree::sphere_tree::BuildParams;
 
@@ -20,16 +22,37 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Load a mesh, de-duplicate its edges, build and validate its sphere tree,
-    /// and print what came out.
+    /// Load a mesh or character, de-duplicate its edges, build and validate its
+    /// sphere tree, and print what came out. With --animate, play a clip and
+    /// check that refit spheres hold the skinned vertices.
     Inspect(InspectArgs),
+    /// Print Table 1 (spheres per level of corner-trees and quaternary trees,
+    /// counted on trees built over a real triangle) and, for the museum and the
+    /// living room, every method's environment hierarchy: nodes and bytes.
+    Tables(TablesArgs),
+}
+
+#[derive(clap::Args)]
+struct TablesArgs {
+    /// Print one JSON object on stdout instead of the tables.
+    #[arg(long)]
+    json: bool,
+    /// A triangle is big when its longest edge exceeds this many metres; big
+    /// triangles get sphere division, quaternary or corner-tree hierarchies.
+    #[arg(long, default_value_t = cornertree::pipeline::DEFAULT_THRESHOLD, value_parser = parse_positive)]
+    threshold: f32,
+    /// Seed of the generated rooms.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
 }
 
 #[derive(clap::Args)]
 struct InspectArgs {
-    /// A glTF 2.0 file (.gltf or .glb); every triangle of its default scene is
-    /// taken in its static pose (skinned meshes in bind pose).
-    file: PathBuf,
+    /// A glTF 2.0 file (.gltf or .glb), or a generated character:
+    /// `generated:humanoid` or `generated:humanoid?vertices=N&seed=S`
+    /// (default 44345 vertices, the paper's avatar). Without --animate every
+    /// triangle is taken in its static pose (skinned meshes in bind pose).
+    source: CharacterSource,
     /// Print one JSON object on stdout instead of the text summary.
     #[arg(long)]
     json: bool,
@@ -40,37 +63,180 @@ struct InspectArgs {
     /// fraction of the parent's (1 keeps the binary tree).
     #[arg(long, default_value_t = BuildParams::default().collapse_ratio, value_parser = parse_ratio)]
     collapse_ratio: f32,
+    /// Play a clip: skin every frame, refit every sphere of the character's
+    /// tree, check containment and tightness, time the refit strategies.
+    #[arg(long)]
+    animate: bool,
+    /// Clip to play (default: the first).
+    #[arg(long, requires = "animate")]
+    clip: Option<String>,
+    /// Frames per second to sample the clip at.
+    #[arg(long, default_value_t = 30.0, requires = "animate", value_parser = parse_positive)]
+    fps: f32,
+    /// Skinning model: glTF linear blend skinning, or the paper's one-joint model.
+    #[arg(long, value_enum, default_value = "linear", requires = "animate")]
+    skinning: SkinningArg,
+    /// Measure tightness (a minimal sphere per node) and the cost of a rebuild
+    /// from scratch on every N-th frame; 0 picks about ten frames over the clip.
+    #[arg(long, default_value_t = 0, requires = "animate")]
+    sample_every: usize,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SkinningArg {
+    Linear,
+    Paper,
+}
+
+impl From<SkinningArg> for SkinningModel {
+    fn from(s: SkinningArg) -> Self {
+        match s {
+            SkinningArg::Linear => SkinningModel::Linear,
+            SkinningArg::Paper => SkinningModel::Paper,
+        }
+    }
 }
 
 fn parse_ratio(s: &str) -> Result<f32, String> {
+    parse_positive(s)
+}
+
+fn parse_positive(s: &str) -> Result<f32, String> {
     let r: f32 = s.parse().map_err(|e| format!("{e}"))?;
     if r.is_finite() && r > 0.0 { Ok(r) } else { Err("must be a positive number".into()) }
 }
 
-fn inspect(args: InspectArgs) -> anyhow::Result<()> {
-    let (mesh, load) = load_static_mesh(&args.file)?;
-    for note in &load.skipped {
-        eprintln!("note: {}: {note}", args.file.display());
+fn load(source: &CharacterSource) -> anyhow::Result<Character> {
+    match source {
+        CharacterSource::File(path) => {
+            let (c, report) = load_character(path)?;
+            let p = path.display();
+            for s in &report.skipped {
+                eprintln!("note: {p}: skipped {s}");
+            }
+            for node in &report.unskinned_meshes {
+                eprintln!("note: {p}: node {node}: mesh left out (not skinned)");
+            }
+            if !report.skipped_channels.is_empty() {
+                eprintln!("note: {p}: {} animation channels not used (first: {})", report.skipped_channels.len(), report.skipped_channels[0]);
+            }
+            for n in &report.notes {
+                eprintln!("note: {p}: {n}");
+            }
+            Ok(c)
+        }
+        CharacterSource::Humanoid(p) => Ok(generate_humanoid(p).with_context(|| source.to_string())?),
     }
+}
+
+fn static_mesh(source: &CharacterSource) -> anyhow::Result<TriMesh> {
+    match source {
+        CharacterSource::File(path) => {
+            let (mesh, report) = load_static_mesh(path)?;
+            for s in &report.skipped {
+                eprintln!("note: {}: skipped {s}", path.display());
+            }
+            for n in &report.notes {
+                eprintln!("note: {}: {n}", path.display());
+            }
+            Ok(mesh)
+        }
+        CharacterSource::Humanoid(_) => Ok(load(source)?.mesh),
+    }
+}
+
+fn inspect(args: InspectArgs) -> anyhow::Result<()> {
+    let name = args.source.to_string();
     let options = InspectOptions {
         dedup: !args.no_dedup,
         build: BuildParams { collapse_ratio: args.collapse_ratio },
     };
-    let source = args.file.display().to_string();
-    let (report, _tree) = inspect_mesh(&source, &mesh, options)
-        .with_context(|| format!("{source}: sphere tree failed validation"))?;
-    if args.json {
-        println!("{}", serde_json::to_string(&report)?);
-    } else {
-        print!("{report}");
+    let mesh = if args.animate { load(&args.source)?.mesh } else { static_mesh(&args.source)? };
+    let (report, _tree) =
+        inspect_mesh(&name, &mesh, options).with_context(|| format!("{name}: sphere tree failed validation"))?;
+    let mut json = serde_json::to_value(&report)?;
+    let mut out = String::new();
+    if args.animate {
+        let character = load(&args.source)?;
+        let opts = AnimateOptions {
+            model: args.skinning.into(),
+            clip: args.clip.clone(),
+            fps: args.fps,
+            dedup: options.dedup,
+            build: options.build,
+            sample_every: args.sample_every,
+            ..AnimateOptions::default()
+        };
+        let refit = animate(&character, &opts).with_context(|| name.clone())?;
+        json["joints"] = character.skeleton.len().into();
+        json["clips"] = character.clips.iter().map(|c| c.name.clone()).collect::<Vec<_>>().into();
+        json["refit"] = serde_json::to_value(&refit)?;
+        if !args.json {
+            out = format!("{report}{}", refit_text(&character, &refit));
+        }
+    } else if !args.json {
+        out = report.to_string();
     }
-    Ok(())
+    if args.json {
+        out = serde_json::to_string(&json)? + "\n";
+    }
+    emit(&out)
+}
+
+fn tables(args: TablesArgs) -> anyhow::Result<()> {
+    use cornertree::environment::{living_room, museum};
+    let (m, l) = (museum(args.seed), living_room(args.seed));
+    let report = cornertree::report::tables::tables(&[("museum", &m), ("living_room", &l)], args.threshold, BuildParams::default());
+    if args.json {
+        emit(&(serde_json::to_string(&report)? + "\n"))
+    } else {
+        emit(&report.to_string())
+    }
+}
+
+/// Writes to stdout; a reader that went away (`| head`) ends the program quietly.
+fn emit(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => Ok(other?),
+    }
+}
+
+fn refit_text(c: &Character, r: &RefitReport) -> String {
+    use std::fmt::Write;
+    let clips: Vec<String> = c.clips.iter().map(|k| format!("{} ({:.2} s)", k.name, k.duration())).collect();
+    let mut s = String::new();
+    let _ = writeln!(s, "  joints                 {:>10}", c.skeleton.len());
+    let _ = writeln!(s, "  clips                  {}", clips.join(", "));
+    let _ = writeln!(s, "  refit: clip {:?}, {:?} skinning, {} frames at {} fps, {} nodes", r.clip, r.model, r.frames, r.fps, r.nodes);
+    let _ = writeln!(
+        s,
+        "    containment          {} violations in {} checks (tolerance {:.3e}, worst excess {:.3e})",
+        r.violations, r.checks, r.tolerance, r.worst_excess
+    );
+    let _ = writeln!(
+        s,
+        "    tightness            mean {:.3}, max {:.3} (refit radius / minimal radius, {} sampled frames)",
+        r.tightness_mean, r.tightness_max, r.sampled_frames
+    );
+    let _ = writeln!(s, "    per frame            skinning {:.3} ms", r.skinning_ms_per_frame);
+    let _ = writeln!(s, "                         full refit {:.3} ms", r.full_refit_ms_per_frame);
+    let _ = writeln!(
+        s,
+        "                         on-demand refit + traversal vs a floor {:.3} ms ({:.0} nodes refit)",
+        r.on_demand_ms_per_frame, r.on_demand_refits_mean
+    );
+    let _ = writeln!(s, "                         rebuild from scratch {:.3} ms", r.rebuild_ms_per_frame);
+    s
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Inspect(args) => inspect(args),
+        Command::Tables(args) => tables(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

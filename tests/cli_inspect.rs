@@ -139,3 +139,57 @@ fn nan_position() {
     let out = bin().arg("inspect").arg(&p).output().unwrap();
     assert_clean_failure(&out, "nan.gltf", &["vertex 1"]);
 }
+
+#[test]
+fn animate_reports_refit_keys() {
+    let out = bin()
+        .arg("inspect")
+        .arg(asset("CesiumMan.glb"))
+        .args(["--animate", "--json", "--fps", "10", "--skinning", "paper"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["joints"], 19);
+    assert_eq!(v["clips"].as_array().unwrap().len(), 1);
+    let r = &v["refit"];
+    for key in ["frames", "violations", "tightness_mean", "tightness_max"] {
+        assert!(r.get(key).is_some(), "refit.{key} missing: {r}");
+    }
+    assert_eq!(r["violations"], 0);
+    assert!(r["frames"].as_u64().unwrap() >= 19, "about 2 s at 10 fps");
+    let mean = r["tightness_mean"].as_f64().unwrap();
+    assert!((1.0..3.0).contains(&mean), "refit spheres are at least as large as minimal ones: {mean}");
+}
+
+#[test]
+fn unknown_clip_lists_the_clips() {
+    let out = bin().arg("inspect").arg(asset("CesiumMan.glb")).args(["--animate", "--clip", "dance"]).output().unwrap();
+    assert_clean_failure(&out, "CesiumMan.glb", &["no clip named \"dance\"", "animation 0"]);
+}
+
+#[test]
+fn generated_humanoid_inspects_and_bad_specs_fail() {
+    let v = inspect_json(Path::new("generated:humanoid?vertices=3000&seed=1"));
+    assert_eq!(v["vertices"], 3000);
+    let out = bin().args(["inspect", "generated:humanoid?legs=3"]).output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("legs") && !err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn closed_stdout_is_not_a_panic() {
+    use std::process::Stdio;
+    let mut child = bin()
+        .arg("inspect")
+        .arg(asset("CesiumMan.glb"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -8,7 +8,8 @@ use cornertree::character::{Character, HumanoidParams, PoseBuffers, SkinningMode
 use cornertree::mesh::dedup_edges;
 use cornertree::sphere_tree::BuildParams;
 use cornertree::sphere_tree::character::CharacterTree;
-use cornertree::sphere_tree::refit::{RefitState, Refitter, check_containment};
+use cornertree::sphere_tree::containment::VertexSets;
+use cornertree::sphere_tree::refit::{RefitState, Refitter};
 
 const JOINT_NAMES: [&str; 22] = [
     "pelvis", "spine_01", "spine_02", "chest", "neck", "head", "clavicle_l", "clavicle_r", "upper_arm_l",
@@ -217,7 +218,7 @@ fn containment(c: &Character, fps: f32, only_middle: bool) -> (u64, u64) {
     let (mut violations, mut checks) = (0, 0);
     for model in [SkinningModel::Paper, SkinningModel::Linear] {
         let ct = CharacterTree::build(c, &dedup, model, BuildParams::default());
-        let parents = ct.tree.parents();
+        let sets = VertexSets::new(&ct.tree, &c.mesh);
         let mut state = RefitState::new(&ct, c.skeleton.len());
         let mut b = PoseBuffers::new(c);
         for clip in &c.clips {
@@ -232,7 +233,7 @@ fn containment(c: &Character, fps: f32, only_middle: bool) -> (u64, u64) {
                 b.skin_all(c, model);
                 state.begin_frame(&c.skeleton, &b.skin);
                 Refitter { tree: &ct, skin: &b.skin, state: &mut state }.refit_all(c.skeleton.base());
-                let r = check_containment(&ct, &state, &b.positions, c.mesh.indices(), &parents, tol);
+                let r = sets.check(&state.spheres, &b.positions, tol);
                 assert_eq!(r.violations, 0, "{model:?} {} t={t}: worst excess {}", clip.name, r.worst_excess);
                 violations += r.violations;
                 checks += r.checks;

@@ -5,7 +5,8 @@ mod common;
 use cornertree::character::{Character, PoseBuffers, SkinningModel};
 use cornertree::mesh::{EdgeDedup, dedup_edges};
 use cornertree::sphere_tree::character::CharacterTree;
-use cornertree::sphere_tree::refit::{OnDemand, RefitState, Refitter, check_containment};
+use cornertree::sphere_tree::containment::VertexSets;
+use cornertree::sphere_tree::refit::{OnDemand, RefitState, Refitter};
 use cornertree::sphere_tree::validate::Checks;
 use cornertree::sphere_tree::{BuildParams, Workspace, build_tree, traverse};
 use proptest::prelude::*;
@@ -30,7 +31,11 @@ fn full_refit_violations(c: &Character, local: &[cornertree::character::Trs], mo
     state.begin_frame(&c.skeleton, &b.skin);
     Refitter { tree: &ct, skin: &b.skin, state: &mut state }.refit_all(c.skeleton.base());
     let tol = 1e-5 * c.mesh.size() as f64;
-    let r = check_containment(&ct, &state, &b.positions, c.mesh.indices(), &ct.tree.parents(), tol);
+    let r = VertexSets::new(&ct.tree, &c.mesh).check(&state.spheres, &b.positions, tol);
+    // The independent ancestor walk agrees on whether anything sticks out.
+    let (walk, walk_worst) = common::ancestor_walk_violations(&ct.tree, &state.spheres, &b.positions, c.mesh.indices(), tol);
+    assert_eq!(walk == 0, r.violations == 0);
+    assert!((walk_worst.max(0.0) - r.worst_excess.max(0.0)).abs() < 1e-6);
     (r.violations, r.checks, r.worst_excess)
 }
 
@@ -63,8 +68,10 @@ fn refit_is_not_vacuous() {
     for (s, n) in state.spheres.iter_mut().zip(ct.tree.nodes()) {
         *s = n.sphere;
     }
-    let r = check_containment(&ct, &state, &b.positions, c.mesh.indices(), &ct.tree.parents(), 1e-5);
+    let r = VertexSets::new(&ct.tree, &c.mesh).check(&state.spheres, &b.positions, 1e-5);
     assert!(r.violations > 0);
+    let (walk, _) = common::ancestor_walk_violations(&ct.tree, &state.spheres, &b.positions, c.mesh.indices(), 1e-5);
+    assert!(walk > 0);
 }
 
 #[test]

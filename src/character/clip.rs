@@ -154,6 +154,26 @@ fn sample_vec(c: &Channel, v: &[Vector3<f32>], t: f32) -> Vector3<f32> {
     }
 }
 
+/// Spherical linear interpolation along the shorter arc. The angle comes from
+/// `2·atan2(|a − b|, |a + b|)`, which stays accurate in `f32` for nearly equal
+/// rotations (nalgebra's `try_slerp` takes `acos` of the dot product, which
+/// loses them, and returns `a` unchanged once the dot product rounds to 1).
+fn slerp(a: UnitQuaternion<f32>, b: UnitQuaternion<f32>, s: f32) -> UnitQuaternion<f32> {
+    let qa = a.into_inner();
+    let mut qb = b.into_inner();
+    if qa.coords.dot(&qb.coords) < 0.0 {
+        qb = -qb;
+    }
+    let theta = 2.0 * (qa - qb).norm().atan2((qa + qb).norm());
+    let sin = theta.sin();
+    let (wa, wb) = if sin < 1e-6 {
+        (1.0 - s, s)
+    } else {
+        (((1.0 - s) * theta).sin() / sin, (s * theta).sin() / sin)
+    };
+    UnitQuaternion::from_quaternion(qa * wa + qb * wb)
+}
+
 fn sample_rot(c: &Channel, q: &[Quaternion<f32>], t: f32) -> UnitQuaternion<f32> {
     let (k, s) = locate(&c.times, t);
     let unit = |q: Quaternion<f32>| {
@@ -163,12 +183,7 @@ fn sample_rot(c: &Channel, q: &[Quaternion<f32>], t: f32) -> UnitQuaternion<f32>
         (Interpolation::CubicSpline, None) => unit(q[3 * k + 1]),
         (_, None) => unit(q[k]),
         (Interpolation::Step, Some(_)) => unit(q[k]),
-        (Interpolation::Linear, Some(s)) => {
-            let (a, b) = (unit(q[k]), unit(q[k + 1]));
-            // Shortest path; `slerp` handles the sign, falling back to nlerp for
-            // nearly equal rotations.
-            a.try_slerp(&b, s, 1e-6).unwrap_or_else(|| a.nlerp(&b, s))
-        }
+        (Interpolation::Linear, Some(s)) => slerp(unit(q[k]), unit(q[k + 1]), s),
         (Interpolation::CubicSpline, Some(s)) => {
             let td = c.times[k + 1] - c.times[k];
             let h = hermite(s);
@@ -210,6 +225,18 @@ mod tests {
         let b = UnitQuaternion::from_euler_angles(0.0, 0.0, 1.0);
         let c = clip(Interpolation::Linear, vec![0.0, 1.0], ChannelValues::Rotation(vec![*a.quaternion(), *b.quaternion()]));
         assert!((at(&c, 0.5).rotation.angle() - 0.5).abs() < 1e-5);
+    }
+
+    #[test]
+    fn slerp_interpolates_nearly_equal_rotations() {
+        // 2e-4 rad apart: the dot product rounds to 1 in f32.
+        let a = UnitQuaternion::identity();
+        let b = UnitQuaternion::from_euler_angles(0.0, 0.0, 2e-4);
+        let c = clip(Interpolation::Linear, vec![0.0, 1.0], ChannelValues::Rotation(vec![*a.quaternion(), *b.quaternion()]));
+        assert!((at(&c, 0.5).rotation.angle() - 1e-4).abs() < 1e-7);
+        // Opposite signs take the shorter arc.
+        let d = clip(Interpolation::Linear, vec![0.0, 1.0], ChannelValues::Rotation(vec![*a.quaternion(), -*UnitQuaternion::from_euler_angles(0.0, 0.0, 1.0).quaternion()]));
+        assert!((at(&d, 0.5).rotation.angle() - 0.5).abs() < 1e-5);
     }
 
     #[test]

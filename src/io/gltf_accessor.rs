@@ -1,6 +1,7 @@
-//! Bounds-checked reading of the two kinds of glTF accessor the static loader
-//! needs: `POSITION` (VEC3 FLOAT) and indices (SCALAR unsigned byte/short/int),
-//! dense or sparse.
+//! Bounds-checked reading of glTF accessors: `POSITION` (VEC3 FLOAT), indices
+//! (SCALAR unsigned byte/short/int), and for skinned characters `JOINTS_n`,
+//! `WEIGHTS_n`, inverse bind matrices and animation keyframes, each in every
+//! component format core glTF 2.0 allows; dense or sparse.
 //!
 //! Every offset, stride and count comes from the file, so all arithmetic is
 //! checked and every range is verified before it is read; a bad accessor is an
@@ -20,24 +21,186 @@ pub(crate) fn read_positions(
     accessor: &Accessor<'_>,
     buffers: &[Data],
 ) -> Result<Vec<[f32; 3]>, String> {
-    if accessor.dimensions() != Dimensions::Vec3
+    read_vec3_f32(accessor, buffers, "POSITION")
+}
+
+/// A VEC3 FLOAT accessor (`what` names it in errors): positions, and
+/// translation/scale keyframes, which core glTF 2.0 requires to be FLOAT.
+pub(crate) fn read_vec3_f32(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+    what: &str,
+) -> Result<Vec<[f32; 3]>, String> {
+    expect_float(accessor, Dimensions::Vec3, what, "VEC3 FLOAT")?;
+    read_floats::<3>(accessor, buffers)
+}
+
+/// A SCALAR FLOAT accessor: keyframe times.
+pub(crate) fn read_scalars_f32(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+    what: &str,
+) -> Result<Vec<f32>, String> {
+    expect_float(accessor, Dimensions::Scalar, what, "SCALAR FLOAT")?;
+    Ok(read_floats::<1>(accessor, buffers)?
+        .into_iter()
+        .map(|[x]| x)
+        .collect())
+}
+
+/// A MAT4 FLOAT accessor (inverse bind matrices), each matrix column-major as stored.
+pub(crate) fn read_mat4_f32(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+    what: &str,
+) -> Result<Vec<[f32; 16]>, String> {
+    expect_float(accessor, Dimensions::Mat4, what, "MAT4 FLOAT")?;
+    read_floats::<16>(accessor, buffers)
+}
+
+/// `JOINTS_n`: VEC4 UNSIGNED_BYTE or UNSIGNED_SHORT, not normalized.
+pub(crate) fn read_joints(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+    what: &str,
+) -> Result<Vec<[u16; 4]>, String> {
+    if accessor.dimensions() != Dimensions::Vec4 || accessor.normalized() {
+        return Err(format!(
+            "{what} must be VEC4 UNSIGNED_BYTE or UNSIGNED_SHORT, not normalized; found {}",
+            describe(accessor)
+        ));
+    }
+    match accessor.data_type() {
+        DataType::U8 => read_elements(accessor, 4, buffers, [0; 4], |b| {
+            [b[0], b[1], b[2], b[3]].map(u16::from)
+        }),
+        DataType::U16 => read_elements(accessor, 8, buffers, [0; 4], |b| {
+            std::array::from_fn(|k| u16::from_le_bytes([b[2 * k], b[2 * k + 1]]))
+        }),
+        _ => Err(format!(
+            "{what} must be VEC4 UNSIGNED_BYTE or UNSIGNED_SHORT; found {}",
+            describe(accessor)
+        )),
+    }
+}
+
+/// `WEIGHTS_n`: VEC4 FLOAT, normalized UNSIGNED_BYTE or normalized
+/// UNSIGNED_SHORT, converted to floats as the spec says (`c / 255`, `c / 65535`).
+pub(crate) fn read_weights(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+    what: &str,
+) -> Result<Vec<[f32; 4]>, String> {
+    let allowed = "VEC4 FLOAT, normalized UNSIGNED_BYTE or normalized UNSIGNED_SHORT";
+    if accessor.dimensions() != Dimensions::Vec4 {
+        return Err(format!(
+            "{what} must be {allowed}; found {}",
+            describe(accessor)
+        ));
+    }
+    match (accessor.data_type(), accessor.normalized()) {
+        (DataType::F32, false) => read_floats::<4>(accessor, buffers),
+        (DataType::U8 | DataType::U16, true) => read_normalized::<4>(accessor, buffers),
+        _ => Err(format!(
+            "{what} must be {allowed}; found {}",
+            describe(accessor)
+        )),
+    }
+}
+
+/// Rotation keyframes: VEC4 FLOAT or normalized BYTE, UNSIGNED_BYTE, SHORT,
+/// UNSIGNED_SHORT, converted as the spec says; `[x, y, z, w]` as stored.
+pub(crate) fn read_rotations(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+    what: &str,
+) -> Result<Vec<[f32; 4]>, String> {
+    let allowed = "VEC4 FLOAT or normalized BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT";
+    if accessor.dimensions() != Dimensions::Vec4 {
+        return Err(format!(
+            "{what} must be {allowed}; found {}",
+            describe(accessor)
+        ));
+    }
+    match (accessor.data_type(), accessor.normalized()) {
+        (DataType::F32, false) => read_floats::<4>(accessor, buffers),
+        (DataType::I8 | DataType::U8 | DataType::I16 | DataType::U16, true) => {
+            read_normalized::<4>(accessor, buffers)
+        }
+        _ => Err(format!(
+            "{what} must be {allowed}; found {}",
+            describe(accessor)
+        )),
+    }
+}
+
+/// "VEC4 U16 normalized", for error messages.
+fn describe(accessor: &Accessor<'_>) -> String {
+    format!(
+        "{:?} {:?}{}",
+        accessor.dimensions(),
+        accessor.data_type(),
+        if accessor.normalized() {
+            " normalized"
+        } else {
+            ""
+        }
+    )
+}
+
+fn expect_float(
+    accessor: &Accessor<'_>,
+    dimensions: Dimensions,
+    what: &str,
+    expected: &str,
+) -> Result<(), String> {
+    if accessor.dimensions() != dimensions
         || accessor.data_type() != DataType::F32
         || accessor.normalized()
     {
         return Err(format!(
-            "POSITION must be VEC3 FLOAT, found {:?} {:?}{}",
-            accessor.dimensions(),
-            accessor.data_type(),
-            if accessor.normalized() {
-                " normalized"
-            } else {
-                ""
-            }
+            "{what} must be {expected}, found {}",
+            describe(accessor)
         ));
     }
-    read_elements(accessor, 12, buffers, [0.0; 3], |b| {
-        [le_f32(&b[0..4]), le_f32(&b[4..8]), le_f32(&b[8..12])]
+    Ok(())
+}
+
+/// `N` little-endian floats per element (the caller checked the type).
+fn read_floats<const N: usize>(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+) -> Result<Vec<[f32; N]>, String> {
+    read_elements(accessor, 4 * N, buffers, [0.0; N], |b| {
+        std::array::from_fn(|k| le_f32(&b[4 * k..4 * k + 4]))
     })
+}
+
+/// `N` normalized integers per element, converted to floats with the spec's
+/// rules: unsigned `c / max`, signed `max(c / max, -1)`.
+fn read_normalized<const N: usize>(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+) -> Result<Vec<[f32; N]>, String> {
+    match accessor.data_type() {
+        DataType::U8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| f32::from(b[k]) / 255.0)
+        }),
+        DataType::I8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| (f32::from(b[k] as i8) / 127.0).max(-1.0))
+        }),
+        DataType::U16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| {
+                f32::from(u16::from_le_bytes([b[2 * k], b[2 * k + 1]])) / 65535.0
+            })
+        }),
+        DataType::I16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| {
+                (f32::from(i16::from_le_bytes([b[2 * k], b[2 * k + 1]])) / 32767.0).max(-1.0)
+            })
+        }),
+        other => Err(format!("{other:?} cannot be normalized")),
+    }
 }
 
 /// The values of an index accessor, widened to `u32`.

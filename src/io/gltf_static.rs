@@ -166,6 +166,47 @@ pub enum LoadError {
 
     #[error("{}: {error}", .path.display())]
     Mesh { path: PathBuf, error: MeshError },
+
+    #[error(
+        "{}: no skin: the scene has no node with both a mesh and a skin, so there is no character to load",
+        .path.display()
+    )]
+    NoSkin { path: PathBuf },
+
+    #[error(
+        "{}: skinned nodes use different skins: node {first_node} uses skin {first_skin}, node {second_node} uses skin {second_skin}; one character needs one skin",
+        .path.display()
+    )]
+    SkinMismatch {
+        path: PathBuf,
+        first_node: usize,
+        first_skin: usize,
+        second_node: usize,
+        second_skin: usize,
+    },
+
+    #[error("{}: skin {skin}: {reason}", .path.display())]
+    Skin {
+        path: PathBuf,
+        skin: usize,
+        reason: String,
+    },
+
+    #[error("{}: mesh {mesh} primitive {primitive}: {reason}", .path.display())]
+    Skinning {
+        path: PathBuf,
+        mesh: MeshRef,
+        primitive: usize,
+        reason: String,
+    },
+
+    #[error("{}: animation {animation} channel {channel}: {reason}", .path.display())]
+    Animation {
+        path: PathBuf,
+        animation: usize,
+        channel: usize,
+        reason: String,
+    },
 }
 
 impl LoadError {
@@ -186,7 +227,12 @@ impl LoadError {
             | Self::NonFiniteWorldPosition { path, .. }
             | Self::NoTriangles { path, .. }
             | Self::TooLarge { path }
-            | Self::Mesh { path, .. } => path,
+            | Self::Mesh { path, .. }
+            | Self::NoSkin { path }
+            | Self::SkinMismatch { path, .. }
+            | Self::Skin { path, .. }
+            | Self::Skinning { path, .. }
+            | Self::Animation { path, .. } => path,
         }
     }
 }
@@ -233,8 +279,33 @@ pub struct LoadReport {
     pub degenerate_dropped: usize,
     /// Primitives that are not triangles.
     pub skipped: Vec<SkippedPrimitive>,
+    /// Character loading only: nodes whose mesh was left out because it is not skinned.
+    pub unskinned_meshes: Vec<usize>,
+    /// Character loading only: animation channels that were not converted.
+    pub skipped_channels: Vec<SkippedChannel>,
     /// Other things worth knowing: ignored morph targets, stray indices, used extensions.
     pub notes: Vec<String>,
+}
+
+/// An animation channel the character loader did not convert, and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SkippedChannel {
+    pub animation: usize,
+    pub channel: usize,
+    pub node: usize,
+    /// `translation`, `rotation`, `scale` or `weights`.
+    pub property: &'static str,
+    pub reason: String,
+}
+
+impl fmt::Display for SkippedChannel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "animation {} channel {} ({} of node {}) skipped: {}",
+            self.animation, self.channel, self.property, self.node, self.reason
+        )
+    }
 }
 
 /// Every triangle of the default scene (else the first scene, else all root
@@ -282,7 +353,21 @@ pub fn load_static_mesh(path: &Path) -> Result<(TriMesh, LoadReport), LoadError>
 }
 
 /// Splits GLB or reads JSON, refuses required extensions, validates.
-fn parse(path: &Path, bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>), LoadError> {
+pub(crate) fn parse(
+    path: &Path,
+    bytes: &[u8],
+) -> Result<(gltf::Document, Option<Vec<u8>>), LoadError> {
+    let (root, blob) = parse_root(path, bytes)?;
+    validate(path, &root)?;
+    Ok((gltf::Document::from_json_without_validation(root), blob))
+}
+
+/// Splits GLB or reads JSON and refuses required extensions, without
+/// validating: callers may check things first to give a more specific error.
+pub(crate) fn parse_root(
+    path: &Path,
+    bytes: &[u8],
+) -> Result<(gltf::json::Root, Option<Vec<u8>>), LoadError> {
     let not_gltf = |reason: String| LoadError::NotGltf {
         path: path.to_owned(),
         reason: one_line(&reason),
@@ -321,16 +406,14 @@ fn parse(path: &Path, bytes: &[u8]) -> Result<(gltf::Document, Option<Vec<u8>>),
                 .collect(),
         });
     }
-    validate(path, &root)?;
-    let document = gltf::Document::from_json_without_validation(root);
-    Ok((document, blob))
+    Ok((root, blob))
 }
 
 /// gltf's validation, which makes every index in the document safe to follow,
 /// minus two checks this loader does not need: `min`/`max` on `POSITION`
 /// accessors (often missing in the wild) and a missing `POSITION` (reported
 /// later with mesh and primitive, and harmless on skipped primitives).
-fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadError> {
+pub(crate) fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadError> {
     use gltf::json::validation::{Checked, Error, Validate};
     let invalid = |reason: String| LoadError::Invalid {
         path: path.to_owned(),
@@ -378,7 +461,7 @@ fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadError> {
 
 /// The bytes of every buffer: the GLB binary chunk, a `data:` URI, or a file
 /// relative to the glTF file.
-fn load_buffers(
+pub(crate) fn load_buffers(
     path: &Path,
     document: &gltf::Document,
     mut blob: Option<Vec<u8>>,
@@ -447,8 +530,34 @@ fn percent_decode(uri: &str) -> Option<String> {
     String::from_utf8(out).ok()
 }
 
-fn one_line(s: &str) -> String {
+pub(crate) fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// The scene to load (the default scene, else the first scene) and its root
+/// nodes; with no scene, `None` and every node that is nobody's child.
+pub(crate) fn scene_roots(document: &gltf::Document) -> (Option<usize>, Vec<gltf::Node<'_>>) {
+    let scene = document
+        .default_scene()
+        .or_else(|| document.scenes().next());
+    let roots: Vec<gltf::Node> = match &scene {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; document.nodes().len()];
+            for node in document.nodes() {
+                for child in node.children() {
+                    if let Some(flag) = is_child.get_mut(child.index()) {
+                        *flag = true;
+                    }
+                }
+            }
+            document
+                .nodes()
+                .filter(|n| !is_child.get(n.index()).copied().unwrap_or(false))
+                .collect()
+        }
+    };
+    (scene.map(|s| s.index()), roots)
 }
 
 struct Loader<'a> {
@@ -462,27 +571,8 @@ struct Loader<'a> {
 impl Loader<'_> {
     /// Depth-first over the chosen roots, parents before children, in file order.
     fn walk(&mut self, document: &gltf::Document) -> Result<(), LoadError> {
-        let scene = document
-            .default_scene()
-            .or_else(|| document.scenes().next());
-        self.report.scene = scene.as_ref().map(|s| s.index());
-        let roots: Vec<gltf::Node> = match &scene {
-            Some(scene) => scene.nodes().collect(),
-            None => {
-                let mut is_child = vec![false; document.nodes().len()];
-                for node in document.nodes() {
-                    for child in node.children() {
-                        if let Some(flag) = is_child.get_mut(child.index()) {
-                            *flag = true;
-                        }
-                    }
-                }
-                document
-                    .nodes()
-                    .filter(|n| !is_child.get(n.index()).copied().unwrap_or(false))
-                    .collect()
-            }
-        };
+        let (scene, roots) = scene_roots(document);
+        self.report.scene = scene;
         // Marking nodes when pushed rejects cycles and shared subtrees, and bounds the work.
         let mut reached = vec![false; document.nodes().len()];
         let mut stack: Vec<(gltf::Node, Matrix4<f64>)> = Vec::new();
@@ -680,7 +770,7 @@ impl Loader<'_> {
 
 /// A node's local transform. Rotations are normalised (the spec requires unit
 /// quaternions); a zero quaternion yields NaN, reported as a non-finite transform.
-fn local_matrix(node: &gltf::Node<'_>) -> Matrix4<f64> {
+pub(crate) fn local_matrix(node: &gltf::Node<'_>) -> Matrix4<f64> {
     match node.transform() {
         // glTF matrices are column-major: matrix[column][row].
         Transform::Matrix { matrix } => Matrix4::from_fn(|r, c| f64::from(matrix[c][r])),
@@ -706,7 +796,11 @@ fn local_matrix(node: &gltf::Node<'_>) -> Matrix4<f64> {
 /// Emits the triangles of `indices` under `mode` (a triangle mode) with the
 /// glTF winding. Returns (indices left over in `TRIANGLES`, strip/fan
 /// triangles dropped for repeating an index).
-fn assemble(mode: Mode, indices: &[u32], mut emit: impl FnMut([u32; 3])) -> (usize, usize) {
+pub(crate) fn assemble(
+    mode: Mode,
+    indices: &[u32],
+    mut emit: impl FnMut([u32; 3]),
+) -> (usize, usize) {
     if !matches!(mode, Mode::TriangleStrip | Mode::TriangleFan) {
         let chunks = indices.chunks_exact(3);
         let leftover = chunks.remainder().len();

@@ -1,14 +1,17 @@
-//! Loading meshes from files.
+//! Loading meshes and characters from files.
 //!
 //! | file | what |
 //! |---|---|
 //! | [`gltf_static`] | every triangle of a glTF/GLB scene in its static pose, world space |
+//! | [`gltf_character`] | the skinned character of a glTF/GLB scene: skeleton, bind-pose mesh, influences, clips |
 //! | [`source`] | a character source: a glTF file or `generated:humanoid?vertices=N&seed=S` |
-//! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by `gltf_static`) |
+//! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by both loaders) |
 
 mod gltf_accessor;
+pub mod gltf_character;
 pub mod gltf_static;
 pub mod source;
 
-pub use gltf_static::{LoadError, LoadReport, MeshRef, SkippedPrimitive, load_static_mesh};
+pub use gltf_character::load_character;
+pub use gltf_static::{LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive, load_static_mesh};
 pub use source::{CharacterSource, SourceError};

@@ -10,6 +10,10 @@ use crate::sphere_tree::{BuildParams, Node, NodeId, SphereTree, build_tree};
 
 use super::Method;
 
+/// Default big-triangle threshold in metres (ours; the paper gives none): a
+/// sub-triangle at most this long has a sphere of a few character leaves.
+pub const DEFAULT_THRESHOLD: Real = 0.15;
+
 /// When a triangle is big: its longest edge exceeds this.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]

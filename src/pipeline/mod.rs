@@ -9,5 +9,5 @@
 pub mod environment_tree;
 pub mod method;
 
-pub use environment_tree::{EnvironmentTree, Threshold};
+pub use environment_tree::{DEFAULT_THRESHOLD, EnvironmentTree, Threshold};
 pub use method::{LeafTest, Method};

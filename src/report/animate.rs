@@ -18,7 +18,8 @@ use crate::geometry::Point;
 use crate::geometry::enclosing::points_sphere;
 use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
 use crate::sphere_tree::character::CharacterTree;
-use crate::sphere_tree::refit::{OnDemand, RefitState, Refitter, check_containment};
+use crate::sphere_tree::containment::VertexSets;
+use crate::sphere_tree::refit::{OnDemand, RefitState, Refitter};
 use crate::sphere_tree::{BuildParams, SphereTree, Workspace, build_tree, traverse};
 
 /// Settings of an animated inspection.
@@ -30,8 +31,10 @@ pub struct AnimateOptions {
     pub fps: f32,
     pub dedup: bool,
     pub build: BuildParams,
-    /// Measure tightness on every n-th frame (it costs a Welzl sphere per node).
-    pub tightness_every: usize,
+    /// Measure the expensive figures (tightness: a Welzl sphere per node;
+    /// rebuild from scratch) on every n-th frame; 0 picks about ten frames
+    /// spread over the clip; `usize::MAX` measures the first frame only.
+    pub sample_every: usize,
     /// Containment tolerance as a fraction of the model size.
     pub tolerance_rel: f64,
 }
@@ -44,7 +47,7 @@ impl Default for AnimateOptions {
             fps: 30.0,
             dedup: true,
             build: BuildParams::default(),
-            tightness_every: 1,
+            sample_every: 0,
             tolerance_rel: 1e-5,
         }
     }
@@ -68,8 +71,8 @@ pub struct RefitReport {
     pub worst_excess: f64,
     pub tightness_mean: f64,
     pub tightness_max: f64,
-    /// Frames on which tightness was measured.
-    pub tightness_frames: usize,
+    /// Frames on which tightness and rebuild cost were measured.
+    pub sampled_frames: usize,
     pub skinning_ms_per_frame: f64,
     pub full_refit_ms_per_frame: f64,
     pub on_demand_ms_per_frame: f64,
@@ -84,9 +87,9 @@ pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitR
     let clip = character.clip(options.clip.as_deref())?;
     let dedup = if options.dedup { dedup_edges(&character.mesh) } else { EdgeDedup::keep_all(&character.mesh) };
     let ct = CharacterTree::build(character, &dedup, options.model, options.build);
-    let parents = ct.tree.parents();
-    let (leaf_order, ranges) = ct.tree.subtree_primitives();
-    let tolerance = options.tolerance_rel * character.mesh.size() as f64;
+    let sets = VertexSets::new(&ct.tree, &character.mesh);
+    let size = character.mesh.size() as f64;
+    let tolerance = options.tolerance_rel * size;
     let base = *character.skeleton.base();
 
     let mut buffers = PoseBuffers::new(character);
@@ -97,9 +100,13 @@ pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitR
     // Floor under the first frame's pose.
     buffers.pose(character, Some(clip), clip.start());
     buffers.skin_all(character, options.model);
-    let mut floor = floor_under(&buffers.positions, character.mesh.size());
+    let mut floor = floor_under(&buffers.positions, size as f32);
 
     let frames = (clip.duration() * options.fps).floor() as usize + 1;
+    let every = match options.sample_every {
+        0 => frames.div_ceil(10).max(1),
+        n => n,
+    };
     let mut r = RefitReport {
         clip: clip.name.clone(),
         model: options.model,
@@ -112,7 +119,7 @@ pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitR
         worst_excess: 0.0,
         tightness_mean: 0.0,
         tightness_max: 0.0,
-        tightness_frames: 0,
+        sampled_frames: 0,
         skinning_ms_per_frame: 0.0,
         full_refit_ms_per_frame: 0.0,
         on_demand_ms_per_frame: 0.0,
@@ -141,27 +148,23 @@ pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitR
         r.on_demand_ms_per_frame += ms(t0);
         r.on_demand_refits_mean += lazy.refits as f64;
 
-        let c = check_containment(&ct, &state, &buffers.positions, character.mesh.indices(), &parents, tolerance);
+        let c = sets.check(&state.spheres, &buffers.positions, tolerance);
         r.checks += c.checks;
         r.violations += c.violations;
         r.worst_excess = r.worst_excess.max(c.worst_excess);
 
-        posed.positions_mut().copy_from_slice(&buffers.positions);
-        let t0 = Instant::now();
-        let rebuilt = build_tree(&posed, &ct.triangles, options.build);
-        r.rebuild_ms_per_frame += ms(t0);
-        drop(rebuilt);
-
-        if options.tightness_every > 0 && k % options.tightness_every == 0 {
-            r.tightness_frames += 1;
+        if k % every == 0 {
+            posed.positions_mut().copy_from_slice(&buffers.positions);
+            let t0 = Instant::now();
+            let rebuilt = build_tree(&posed, &ct.triangles, options.build);
+            r.rebuild_ms_per_frame += ms(t0);
+            drop(rebuilt);
+            r.sampled_frames += 1;
             for (i, s) in state.spheres.iter().enumerate() {
-                let (a, b) = ranges[i];
                 scratch.clear();
-                for &p in &leaf_order[a as usize..b as usize] {
-                    scratch.extend(posed.triangle(TriangleId(p)).vertices());
-                }
+                scratch.extend(sets.of(i).iter().map(|&v| buffers.positions[v as usize]));
                 let tight = points_sphere(&scratch).radius as f64;
-                if tight > 1e-9 * character.mesh.size() as f64 {
+                if tight > 1e-9 * size {
                     let ratio = s.radius as f64 / tight;
                     tight_sum += ratio;
                     tight_n += 1;
@@ -175,7 +178,7 @@ pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitR
     r.full_refit_ms_per_frame /= f;
     r.on_demand_ms_per_frame /= f;
     r.on_demand_refits_mean /= f;
-    r.rebuild_ms_per_frame /= f;
+    r.rebuild_ms_per_frame /= r.sampled_frames.max(1) as f64;
     r.tightness_mean = if tight_n > 0 { tight_sum / tight_n as f64 } else { 0.0 };
     Ok(r)
 }
@@ -196,7 +199,7 @@ fn floor_under(positions: &[Point], size: f32) -> SphereTree {
     let cz = 0.5 * (lo.z + hi.z);
     let half = (hi.x - lo.x).max(hi.z - lo.z).max(1e-3 * size);
     let cell = (0.02 * size).max(1e-6);
-    let n = ((2.0 * half / cell).ceil() as u32).clamp(1, 400);
+    let n = ((2.0 * half / cell).ceil() as u32).clamp(1, 120);
     let y = lo.y - 1e-3 * size;
     let step = 2.0 * half / n as f32;
     let mut p = Vec::with_capacity(((n + 1) * (n + 1)) as usize);

@@ -5,6 +5,7 @@
 //! | [`node`] | [`SphereTree`], [`Node`], [`NodeId`]: compact storage, children after parents |
 //! | [`build`] | top-down binary split, then collapse to an n-ary tree |
 //! | [`character`] | the character's tree: one tree per joint under root and extremity spheres |
+//! | [`containment`] | distinct vertices per node; checking refit spheres hold them |
 //! | [`refit`] | on-demand refit from per-joint weight ranges (§3 sphere update) |
 //! | [`validate`] | the public validator tests call after every step |
 //! | [`traverse`] | simultaneous traversal of two trees with a reusable [`Workspace`] |
@@ -18,6 +19,7 @@
 
 pub mod build;
 pub mod character;
+pub mod containment;
 pub mod node;
 pub mod refit;
 pub mod traverse;

@@ -28,7 +28,6 @@ use nalgebra::{Matrix3, Matrix4};
 use crate::character::{Character, JointId, Skeleton, SkinningModel};
 use crate::geometry::enclosing::round_up;
 use crate::geometry::{Point, Sphere, Vector};
-use crate::mesh::TriangleId;
 
 use super::character::{CharacterTree, Origin};
 use super::node::{NodeId, SphereTree};
@@ -102,20 +101,23 @@ impl WeightSummary {
 enum Rule {
     /// Enclose the children's refit spheres (root and extremity spheres).
     FromChildren,
-    /// Corners `corners[start..end]`, joints `joints[jstart..jend]`.
-    Corners { start: u32, end: u32, jstart: u32, jend: u32 },
+    /// The node's joints ("slots") are `joints[jstart..jend]`; its `count`
+    /// corners are weight vectors over those slots, stored one after the other
+    /// from `weights[wstart]`.
+    Corners { jstart: u32, jend: u32, wstart: u32, count: u32 },
 }
 
 /// Refit rules for every node of a character tree.
 #[derive(Clone, Debug, Default)]
 pub struct RefitData {
     rules: Vec<Rule>,
-    /// Each corner is `terms[a..b]`.
-    corners: Vec<(u32, u32)>,
-    /// `(joint or BASE, weight)`.
-    terms: Vec<(u16, f32)>,
-    /// Joints whose stretch bounds a node's radius.
+    /// Slot joints of every node (`BASE` for the skeleton's base frame); their
+    /// stretch also bounds the node's radius.
     joints: Vec<u16>,
+    /// Corner weights, one per slot, corner after corner.
+    weights: Vec<f32>,
+    /// Most slots any node has (sizes the per-frame scratch).
+    max_slots: usize,
     /// Weight summary per node (kept for inspection and tests).
     summaries: Vec<WeightSummary>,
 }
@@ -166,18 +168,11 @@ impl RefitData {
                 }
                 Origin::Joint(t, n) => {
                     let summary = sub[t][n.index()].clone();
-                    let start = data.corners.len() as u32;
-                    let jstart = data.joints.len() as u32;
-                    match model {
-                        SkinningModel::Paper => data.paper_corners(&character.skeleton, &summary),
-                        SkinningModel::Linear => data.polytope_corners(&summary),
-                    }
-                    data.rules.push(Rule::Corners {
-                        start,
-                        end: data.corners.len() as u32,
-                        jstart,
-                        jend: data.joints.len() as u32,
-                    });
+                    let corners = match model {
+                        SkinningModel::Paper => paper_corners(&character.skeleton, &summary),
+                        SkinningModel::Linear => polytope_corners(&summary),
+                    };
+                    data.push_corners(&corners);
                     data.summaries.push(summary);
                 }
             }
@@ -185,93 +180,99 @@ impl RefitData {
         data
     }
 
-    fn push_corner(&mut self, terms: &[(u16, f32)]) {
-        let a = self.terms.len() as u32;
-        self.terms.extend(terms.iter().filter(|t| t.1 != 0.0));
-        self.corners.push((a, self.terms.len() as u32));
-    }
-
-    fn push_joint(&mut self, j: u16, from: usize) {
-        if !self.joints[from..].contains(&j) {
-            self.joints.push(j);
-        }
-    }
-
-    fn paper_corners(&mut self, skeleton: &Skeleton, s: &WeightSummary) {
-        let from = self.joints.len();
-        for &(a, lo, hi) in &s.entries {
-            let p = skeleton.parent(JointId(a)).map_or(BASE, |p| p.0);
-            self.push_corner(&[(p, 1.0 - lo), (a, lo)]);
-            if hi != lo {
-                self.push_corner(&[(p, 1.0 - hi), (a, hi)]);
-            }
-            self.push_joint(a, from);
-            self.push_joint(p, from);
-        }
-    }
-
-    fn polytope_corners(&mut self, s: &WeightSummary) {
-        let from = self.joints.len();
-        for &(j, _, _) in &s.entries {
-            self.push_joint(j, from);
-        }
-        let e = &s.entries;
-        let k = e.len();
-        if k > MAX_POLYTOPE_JOINTS {
-            for &(j, _, _) in e {
-                self.push_corner(&[(j, 1.0)]);
-            }
-            return;
-        }
-        // Vertices of {lo ≤ w ≤ hi, Σw = 1}: all coordinates but one at a bound.
-        let mut seen: Vec<Vec<(u16, f32)>> = Vec::new();
-        for free in 0..k {
-            for mask in 0u32..(1 << (k - 1)) {
-                let mut w = vec![0.0f32; k];
-                let mut bit = 0;
-                let mut sum = 0.0f64;
-                for (i, wi) in w.iter_mut().enumerate() {
-                    if i == free {
-                        continue;
-                    }
-                    *wi = if mask >> bit & 1 == 1 { e[i].2 } else { e[i].1 };
-                    sum += *wi as f64;
-                    bit += 1;
-                }
-                let f = 1.0 - sum;
-                let slack = 1e-5;
-                if f < e[free].1 as f64 - slack || f > e[free].2 as f64 + slack {
-                    continue;
-                }
-                w[free] = f.clamp(0.0, 1.0) as f32;
-                let corner: Vec<(u16, f32)> = e.iter().zip(&w).map(|(x, &wi)| (x.0, wi)).collect();
-                if !seen.contains(&corner) {
-                    seen.push(corner);
+    /// Adds a node whose corners are the given blends `[(joint, weight)]`.
+    fn push_corners(&mut self, corners: &[Vec<(u16, f32)>]) {
+        let jstart = self.joints.len();
+        for c in corners {
+            for &(j, _) in c {
+                if !self.joints[jstart..].contains(&j) {
+                    self.joints.push(j);
                 }
             }
         }
-        if seen.is_empty() {
-            // Rounding left the polytope empty: fall back to the simplex.
-            for &(j, _, _) in e {
-                self.push_corner(&[(j, 1.0)]);
+        let slots = self.joints.len() - jstart;
+        let wstart = self.weights.len();
+        for c in corners {
+            let mut w = vec![0.0f32; slots];
+            for &(j, x) in c {
+                let at = self.joints[jstart..].iter().position(|&s| s == j).unwrap();
+                w[at] += x;
             }
+            self.weights.extend(w);
         }
-        for c in &seen {
-            self.push_corner(c);
-        }
+        self.max_slots = self.max_slots.max(slots);
+        self.rules.push(Rule::Corners {
+            jstart: jstart as u32,
+            jend: self.joints.len() as u32,
+            wstart: wstart as u32,
+            count: corners.len() as u32,
+        });
     }
 
     /// Corners per node, for statistics.
     pub fn corner_count(&self, id: NodeId) -> usize {
         match self.rules[id.index()] {
             Rule::FromChildren => 0,
-            Rule::Corners { start, end, .. } => (end - start) as usize,
+            Rule::Corners { count, .. } => count as usize,
         }
     }
 
     pub fn summary(&self, id: NodeId) -> &WeightSummary {
         &self.summaries[id.index()]
     }
+}
+
+/// The paper's corners: per joint `a` with weights in `[lo, hi]`, the blends
+/// `(1 − lo)·M_p + lo·M_a` and `(1 − hi)·M_p + hi·M_a` (one when equal).
+fn paper_corners(skeleton: &Skeleton, s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
+    let mut out = Vec::new();
+    for &(a, lo, hi) in &s.entries {
+        let p = skeleton.parent(JointId(a)).map_or(BASE, |p| p.0);
+        out.push(vec![(p, 1.0 - lo), (a, lo)]);
+        if hi != lo {
+            out.push(vec![(p, 1.0 - hi), (a, hi)]);
+        }
+    }
+    out
+}
+
+/// Vertices of the weight polytope `{lo ≤ w ≤ hi, Σ w = 1}` (every coordinate
+/// but one at a bound); the simplex corners beyond [`MAX_POLYTOPE_JOINTS`].
+fn polytope_corners(s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
+    let e = &s.entries;
+    let k = e.len();
+    let simplex = || e.iter().map(|&(j, _, _)| vec![(j, 1.0)]).collect::<Vec<_>>();
+    if k > MAX_POLYTOPE_JOINTS {
+        return simplex();
+    }
+    let mut seen: Vec<Vec<(u16, f32)>> = Vec::new();
+    for free in 0..k {
+        for mask in 0u32..(1 << (k - 1)) {
+            let mut w = vec![0.0f32; k];
+            let mut bit = 0;
+            let mut sum = 0.0f64;
+            for (i, wi) in w.iter_mut().enumerate() {
+                if i == free {
+                    continue;
+                }
+                *wi = if mask >> bit & 1 == 1 { e[i].2 } else { e[i].1 };
+                sum += *wi as f64;
+                bit += 1;
+            }
+            let f = 1.0 - sum;
+            let slack = 1e-5;
+            if f < e[free].1 as f64 - slack || f > e[free].2 as f64 + slack {
+                continue;
+            }
+            w[free] = f.clamp(0.0, 1.0) as f32;
+            let corner: Vec<(u16, f32)> = e.iter().zip(&w).map(|(x, &wi)| (x.0, wi)).collect();
+            if !seen.contains(&corner) {
+                seen.push(corner);
+            }
+        }
+    }
+    // Rounding can leave the polytope empty: fall back to the simplex.
+    if seen.is_empty() { simplex() } else { seen }
 }
 
 /// Per-frame refit results and bookkeeping; reused across frames.
@@ -285,6 +286,8 @@ pub struct RefitState {
     sigma: Vec<f32>,
     /// Nodes refit this frame.
     pub refits: u64,
+    /// Slot centres of the node being refit.
+    scratch: Vec<Vector>,
 }
 
 impl RefitState {
@@ -295,6 +298,7 @@ impl RefitState {
             frame: 0,
             sigma: vec![1.0; joints + 1],
             refits: 0,
+            scratch: vec![Vector::zeros(); tree.refit.max_slots.max(1)],
         }
     }
 
@@ -334,10 +338,6 @@ pub struct Refitter<'a> {
 }
 
 impl Refitter<'_> {
-    fn matrix(&self, j: u16) -> &Matrix4<f32> {
-        if j == BASE { unreachable!("base handled by caller") } else { &self.skin[j as usize] }
-    }
-
     /// Refits node `id` now (its children first where the rule needs them).
     pub fn refit_node(&mut self, id: NodeId, base: &Matrix4<f32>) -> Sphere {
         let rest = self.tree.tree.node(id);
@@ -358,23 +358,36 @@ impl Refitter<'_> {
                     .fold(0.0, f64::max);
                 Sphere::new(center, round_up(r))
             }
-            Rule::Corners { start, end, jstart, jend } => {
+            Rule::Corners { jstart, jend, wstart, count } => {
                 let data = &self.tree.refit;
                 let c = rest.sphere.center;
+                let slots = &data.joints[jstart as usize..jend as usize];
+                let k = slots.len();
+                // Each slot's matrix applied to the rest centre, once.
+                let mut sigma = 0.0f32;
+                for (q, &j) in self.state.scratch.iter_mut().zip(slots) {
+                    let (m, st) = if j == BASE {
+                        (base, *self.state.sigma.last().unwrap())
+                    } else {
+                        (&self.skin[j as usize], self.state.sigma[j as usize])
+                    };
+                    *q = m.transform_point(&c).coords;
+                    sigma = sigma.max(st);
+                }
+                let q = &self.state.scratch[..k];
+                let weights = &data.weights[wstart as usize..wstart as usize + count as usize * k];
+                let corner = |w: &[f32]| -> Point {
+                    Point::from(q.iter().zip(w).fold(Vector::zeros(), |acc, (v, x)| acc + v * *x))
+                };
                 let mut sum = Vector::zeros();
-                for &(a, b) in &data.corners[start as usize..end as usize] {
-                    sum += self.corner_point(a, b, &c, base).coords;
+                for w in weights.chunks_exact(k) {
+                    sum += corner(w).coords;
                 }
-                let center = Point::from(sum / (end - start) as f32);
+                let center = Point::from(sum / count as f32);
                 let mut spread = 0.0f64;
-                for &(a, b) in &data.corners[start as usize..end as usize] {
-                    let p = self.corner_point(a, b, &c, base);
-                    spread = spread.max(crate::geometry::sphere::distance_f64(&p, &center));
+                for w in weights.chunks_exact(k) {
+                    spread = spread.max(crate::geometry::sphere::distance_f64(&corner(w), &center));
                 }
-                let sigma = data.joints[jstart as usize..jend as usize]
-                    .iter()
-                    .map(|&j| if j == BASE { *self.state.sigma.last().unwrap() } else { self.state.sigma[j as usize] })
-                    .fold(0.0f32, f32::max);
                 // Relative slack for f32 rounding in the corner points.
                 let r = (spread + rest.sphere.radius as f64 * sigma as f64) * (1.0 + 1e-6);
                 Sphere::new(center, round_up(r))
@@ -384,16 +397,6 @@ impl Refitter<'_> {
         self.state.stamp[id.index()] = self.state.frame;
         self.state.refits += 1;
         s
-    }
-
-    #[inline]
-    fn corner_point(&self, a: u32, b: u32, c: &Point, base: &Matrix4<f32>) -> Point {
-        let mut p = Vector::zeros();
-        for &(j, w) in &self.tree.refit.terms[a as usize..b as usize] {
-            let m = if j == BASE { base } else { self.matrix(j) };
-            p += m.transform_point(c).coords * w;
-        }
-        Point::from(p)
     }
 
     #[inline]
@@ -427,47 +430,3 @@ impl Hierarchy for OnDemand<'_> {
     }
 }
 
-/// Deformed vertices found outside a refit sphere that should hold them: each
-/// leaf's triangle is checked against the leaf and all its ancestors.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Containment {
-    pub checks: u64,
-    pub violations: u64,
-    /// Largest distance found beyond a radius (0 when none).
-    pub worst_excess: f64,
-}
-
-/// Checks every node's refit sphere against the posed positions (`tolerance`
-/// in model units). Every node must have been refit this frame.
-pub fn check_containment(
-    tree: &CharacterTree,
-    state: &RefitState,
-    positions: &[Point],
-    indices: &[[u32; 3]],
-    parents: &[u32],
-    tolerance: f64,
-) -> Containment {
-    let mut out = Containment::default();
-    for (i, n) in tree.tree.nodes().iter().enumerate() {
-        let Some(t) = n.primitive() else { continue };
-        let tri = indices[TriangleId(t).index()];
-        let mut a = i as u32;
-        loop {
-            let s = state.spheres[a as usize];
-            for &v in &tri {
-                let d = crate::geometry::sphere::distance_f64(&positions[v as usize], &s.center) - s.radius as f64;
-                out.checks += 1;
-                if d > tolerance {
-                    out.violations += 1;
-                }
-                out.worst_excess = out.worst_excess.max(d);
-            }
-            if a == 0 {
-                break;
-            }
-            a = parents[a as usize];
-        }
-    }
-    out.worst_excess = out.worst_excess.max(0.0);
-    out
-}

@@ -127,3 +127,39 @@ pub fn random_pose(seed: u64, skeleton: &Skeleton, max_scale: f32) -> Vec<Trs> {
         })
         .collect()
 }
+
+/// Independent containment reference: every leaf's triangle against the leaf
+/// and all its ancestors (vertices counted once per triangle and node).
+/// Returns (violations, worst excess).
+pub fn ancestor_walk_violations(
+    tree: &cornertree::sphere_tree::SphereTree,
+    spheres: &[cornertree::geometry::Sphere],
+    positions: &[Point],
+    indices: &[[u32; 3]],
+    tolerance: f64,
+) -> (u64, f64) {
+    let parents = tree.parents();
+    let (mut violations, mut worst) = (0u64, 0.0f64);
+    for (i, n) in tree.nodes().iter().enumerate() {
+        let Some(t) = n.primitive() else { continue };
+        let mut a = i;
+        loop {
+            let s = spheres[a];
+            for &v in &indices[t as usize] {
+                let p = positions[v as usize];
+                let d = ((p.x as f64 - s.center.x as f64).powi(2)
+                    + (p.y as f64 - s.center.y as f64).powi(2)
+                    + (p.z as f64 - s.center.z as f64).powi(2))
+                .sqrt()
+                    - s.radius as f64;
+                worst = worst.max(d);
+                violations += (d > tolerance) as u64;
+            }
+            if a == 0 {
+                break;
+            }
+            a = parents[a] as usize;
+        }
+    }
+    (violations, worst)
+}

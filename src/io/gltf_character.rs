@@ -1,0 +1,1041 @@
+//! Skinned glTF 2.0 characters: skeleton, bind-pose mesh, influences and clips
+//! as one [`Character`].
+//!
+//! [`load_character`] reads `.glb`/`.gltf` with the static loader's checked
+//! parsing, buffer loading and accessor reading, and:
+//!
+//! - **Mesh.** Every node of the default scene (else the first scene, else all
+//!   root nodes) that has both a mesh and a skin; all must use the same skin.
+//!   Their triangle primitives are concatenated into one [`TriMesh`] with
+//!   positions as stored (bind space: the spec says the skinned node's own
+//!   transform is ignored). Meshes of non-skinned nodes are left out and listed
+//!   in [`LoadReport::unskinned_meshes`]; non-triangle primitives in
+//!   [`LoadReport::skipped`]; morph targets are ignored (base positions) with a
+//!   note. No skinned node at all is [`LoadError::NoSkin`].
+//! - **Skeleton.** The skin's `joints`, reordered so parents come before
+//!   children (the file's order is kept where it already does); `JOINTS_n` are
+//!   remapped accordingly. A joint's parent is its nearest ancestor node that is
+//!   a joint of the skin; a non-joint node between two joints must have the
+//!   identity transform (else an error). Rest pose = each joint node's local
+//!   TRS; a `matrix` is decomposed (shear, projection or zero scale is an
+//!   error). Inverse bind matrices come from the accessor (identity when
+//!   absent); fewer than joints is an error, extra ones are noted. The base is
+//!   the world transform of the root joints' parent node (identity for a scene
+//!   root); root joints whose parents have different world transforms are an
+//!   error.
+//! - **Influences.** `JOINTS_n`/`WEIGHTS_n` in every core format (joints u8 or
+//!   u16; weights float or normalized u8/u16). With more than one set, each
+//!   vertex keeps its four largest weights (renormalised by [`Influences`]);
+//!   vertices that lost a non-zero weight are counted in a note. A skinned
+//!   primitive without `JOINTS_0`/`WEIGHTS_0` is an error, as are joint indices
+//!   out of range or weights that do not sum to a positive number (named by
+//!   mesh, primitive and the primitive's own vertex index).
+//! - **Clips.** One per animation (`name`, else `"animation N"`). Translation,
+//!   rotation and scale channels of joints become [`Channel`]s with their
+//!   interpolation (STEP, LINEAR, CUBICSPLINE); rotations in float or any
+//!   normalized integer format are converted per the spec. Channels on other
+//!   nodes and morph-weight channels are skipped and listed in
+//!   [`LoadReport::skipped_channels`]. A channel targeting a node that does not
+//!   exist, or a sampler whose output count does not match its input, is an
+//!   error.
+//!
+//! Every [`LoadError`] is one line naming the file; malformed data is an error,
+//! never a panic.
+
+use std::path::Path;
+
+use gltf::animation::{Interpolation as GltfInterpolation, Property};
+use gltf::buffer::Data;
+use gltf::mesh::{Mode, Semantic};
+use gltf::scene::Transform;
+use nalgebra::{Matrix3, Matrix4, Quaternion, Rotation3, UnitQuaternion, Vector3};
+
+use super::gltf_accessor;
+use super::gltf_static::{
+    LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive, assemble, load_buffers,
+    local_matrix, one_line, parse_root, scene_roots, validate,
+};
+use crate::character::skinning::SkinError;
+use crate::character::{
+    Channel, ChannelValues, Character, Clip, Influences, Interpolation, Joint, JointId, Skeleton,
+    Trs,
+};
+use crate::geometry::Point;
+use crate::mesh::TriMesh;
+
+/// Tolerance for "is the identity" and "is a rotation" checks on stored matrices.
+const MATRIX_TOLERANCE: f64 = 1e-4;
+
+/// The skinned character of a glTF file's default scene. See the module docs.
+pub fn load_character(path: &Path) -> Result<(Character, LoadReport), LoadError> {
+    let bytes = std::fs::read(path).map_err(|error| LoadError::Io {
+        path: path.to_owned(),
+        error,
+    })?;
+    let (root, blob) = parse_root(path, &bytes)?;
+    check_channel_targets(path, &root)?;
+    validate(path, &root)?;
+    let document = gltf::Document::from_json_without_validation(root);
+    let buffers = load_buffers(path, &document, blob)?;
+    let mut loader = CharacterLoader {
+        path,
+        buffers: &buffers,
+        report: LoadReport::default(),
+    };
+    for extension in document.extensions_used() {
+        loader.report.notes.push(format!(
+            "extension {extension} is used but not required; its data is ignored"
+        ));
+    }
+    let character = loader.load(&document)?;
+    Ok((character, loader.report))
+}
+
+/// The gltf crate's validation reports a channel on a missing node as a generic
+/// index error; this names it.
+fn check_channel_targets(path: &Path, root: &gltf::json::Root) -> Result<(), LoadError> {
+    let nodes = root.nodes.len();
+    for (a, animation) in root.animations.iter().enumerate() {
+        for (c, channel) in animation.channels.iter().enumerate() {
+            let node = channel.target.node.value();
+            if node >= nodes {
+                return Err(LoadError::Animation {
+                    path: path.to_owned(),
+                    animation: a,
+                    channel: c,
+                    reason: format!(
+                        "channel targeting no node: node {node} does not exist (the file has {nodes} nodes)"
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
+/// One `JOINTS_n`/`WEIGHTS_n` pair of a primitive.
+type InfluenceSet = (Vec<[u16; 4]>, Vec<[f32; 4]>);
+
+/// Where a primitive's vertices start in the concatenated mesh.
+struct PrimitiveRange {
+    start: usize,
+    mesh: MeshRef,
+    primitive: usize,
+}
+
+struct CharacterLoader<'a> {
+    path: &'a Path,
+    buffers: &'a [Data],
+    report: LoadReport,
+}
+
+impl CharacterLoader<'_> {
+    fn load(&mut self, document: &gltf::Document) -> Result<Character, LoadError> {
+        let parents = self.node_parents(document)?;
+
+        // Mesh instances of the scene.
+        let (scene, roots) = scene_roots(document);
+        self.report.scene = scene;
+        let mut reached = vec![false; document.nodes().len()];
+        let mut stack: Vec<gltf::Node> = roots.into_iter().rev().collect();
+        for node in &stack {
+            self.reach(&mut reached, node.index())?;
+        }
+        let mut skinned: Vec<(gltf::Node, gltf::Mesh, gltf::Skin)> = Vec::new();
+        let mut meshes_seen = vec![false; document.meshes().len()];
+        while let Some(node) = stack.pop() {
+            self.report.nodes_visited += 1;
+            if let Some(mesh) = node.mesh() {
+                self.report.meshes += 1;
+                if let Some(seen) = meshes_seen.get_mut(mesh.index())
+                    && !*seen
+                {
+                    *seen = true;
+                    self.report.distinct_meshes += 1;
+                }
+                match node.skin() {
+                    Some(skin) => skinned.push((node.clone(), mesh, skin)),
+                    None => {
+                        self.report.unskinned_meshes.push(node.index());
+                        self.report.notes.push(format!(
+                            "node {}: mesh {} is not skinned; left out of the character",
+                            node.index(),
+                            mesh.index()
+                        ));
+                    }
+                }
+            }
+            let children: Vec<gltf::Node> = node.children().collect();
+            for child in children.into_iter().rev() {
+                self.reach(&mut reached, child.index())?;
+                stack.push(child);
+            }
+        }
+        let Some((first_node, _, skin)) = skinned.first() else {
+            return Err(LoadError::NoSkin {
+                path: self.path.to_owned(),
+            });
+        };
+        let skin = skin.clone();
+        if let Some((other, _, other_skin)) =
+            skinned.iter().find(|(_, _, s)| s.index() != skin.index())
+        {
+            return Err(LoadError::SkinMismatch {
+                path: self.path.to_owned(),
+                first_node: first_node.index(),
+                first_skin: skin.index(),
+                second_node: other.index(),
+                second_skin: other_skin.index(),
+            });
+        }
+        self.report.skinned_instances = skinned.len();
+
+        let skel = self.skeleton(document, &skin, &parents)?;
+
+        // Mesh and influences.
+        let mut positions: Vec<Point> = Vec::new();
+        let mut triangles: Vec<[u32; 3]> = Vec::new();
+        let mut joints: Vec<[u16; 4]> = Vec::new();
+        let mut weights: Vec<[f32; 4]> = Vec::new();
+        let mut ranges: Vec<PrimitiveRange> = Vec::new();
+        for (node, mesh, _) in &skinned {
+            self.add_mesh(
+                node.index(),
+                mesh,
+                &skel,
+                &mut positions,
+                &mut triangles,
+                &mut joints,
+                &mut weights,
+                &mut ranges,
+            )?;
+        }
+        if triangles.is_empty() {
+            return Err(LoadError::NoTriangles {
+                path: self.path.to_owned(),
+                primitives: self.report.primitives,
+                skipped: self.report.skipped.len(),
+            });
+        }
+        self.report.vertices = positions.len();
+        self.report.triangles = triangles.len();
+        let joint_count = skel.skeleton.len();
+        let influences = Influences::new(joints, weights, joint_count)
+            .map_err(|error| self.influence_error(&ranges, &skin, joint_count, error))?;
+        let mesh = TriMesh::new(positions, triangles).map_err(|error| LoadError::Mesh {
+            path: self.path.to_owned(),
+            error,
+        })?;
+
+        let clips = self.clips(document, &skel, &parents)?;
+        let name = self
+            .path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "character".to_owned());
+        Ok(Character::new(name, skel.skeleton, mesh, influences, clips))
+    }
+
+    fn reach(&self, reached: &mut [bool], node: usize) -> Result<(), LoadError> {
+        match reached.get_mut(node) {
+            Some(flag) if !*flag => {
+                *flag = true;
+                Ok(())
+            }
+            _ => Err(LoadError::NodeGraph {
+                path: self.path.to_owned(),
+                node,
+            }),
+        }
+    }
+
+    /// The parent of every node of the file; a node with two parents, or a
+    /// cycle, is an error, so walking up always ends.
+    fn node_parents(&self, document: &gltf::Document) -> Result<Vec<Option<usize>>, LoadError> {
+        let n = document.nodes().len();
+        let graph_error = |node| LoadError::NodeGraph {
+            path: self.path.to_owned(),
+            node,
+        };
+        let mut parents: Vec<Option<usize>> = vec![None; n];
+        for node in document.nodes() {
+            for child in node.children() {
+                let slot = parents
+                    .get_mut(child.index())
+                    .ok_or(graph_error(child.index()))?;
+                if slot.is_some() {
+                    return Err(graph_error(child.index()));
+                }
+                *slot = Some(node.index());
+            }
+        }
+        // 0 = not seen, 1 = on the current upward walk, 2 = known to end at a root.
+        let mut state = vec![0u8; n];
+        for start in 0..n {
+            let mut chain = Vec::new();
+            let mut cur = Some(start);
+            while let Some(c) = cur {
+                match state[c] {
+                    2 => break,
+                    1 => return Err(graph_error(c)),
+                    _ => {
+                        state[c] = 1;
+                        chain.push(c);
+                        cur = parents[c];
+                    }
+                }
+            }
+            for c in chain {
+                state[c] = 2;
+            }
+        }
+        Ok(parents)
+    }
+
+    /// World transform of a node from the file's hierarchy (rest transforms).
+    fn world(
+        &self,
+        document: &gltf::Document,
+        parents: &[Option<usize>],
+        node: usize,
+    ) -> Matrix4<f64> {
+        let mut m = Matrix4::identity();
+        let mut cur = Some(node);
+        while let Some(c) = cur {
+            if let Some(n) = document.nodes().nth(c) {
+                m = local_matrix(&n) * m;
+            }
+            cur = parents[c];
+        }
+        m
+    }
+
+    fn skin_error(&self, skin: &gltf::Skin<'_>, reason: String) -> LoadError {
+        LoadError::Skin {
+            path: self.path.to_owned(),
+            skin: skin.index(),
+            reason: one_line(&reason),
+        }
+    }
+
+    fn skeleton(
+        &mut self,
+        document: &gltf::Document,
+        skin: &gltf::Skin<'_>,
+        parents: &[Option<usize>],
+    ) -> Result<SkeletonMap, LoadError> {
+        let nodes: Vec<gltf::Node> = document.nodes().collect();
+        let joint_nodes: Vec<usize> = skin.joints().map(|n| n.index()).collect();
+        if joint_nodes.is_empty() {
+            return Err(self.skin_error(skin, "has no joints".into()));
+        }
+        if joint_nodes.len() > u16::MAX as usize {
+            return Err(self.skin_error(
+                skin,
+                format!(
+                    "has {} joints; at most 65535 are supported",
+                    joint_nodes.len()
+                ),
+            ));
+        }
+        // Node → index in the skin's joint list.
+        let mut skin_index: Vec<Option<usize>> = vec![None; nodes.len()];
+        for (k, &node) in joint_nodes.iter().enumerate() {
+            let slot = skin_index.get_mut(node).ok_or_else(|| {
+                self.skin_error(
+                    skin,
+                    format!("joint {k} is node {node}, which does not exist"),
+                )
+            })?;
+            if let Some(first) = *slot {
+                return Err(self.skin_error(
+                    skin,
+                    format!("node {node} is listed twice in joints (entries {first} and {k})"),
+                ));
+            }
+            *slot = Some(k);
+        }
+
+        // Nearest joint ancestor of each joint, and the parent node of each root joint.
+        let mut parent_joint: Vec<Option<usize>> = vec![None; joint_nodes.len()];
+        let mut base: Option<(usize, Option<usize>, Matrix4<f64>)> = None;
+        for (k, &node) in joint_nodes.iter().enumerate() {
+            let mut between = Vec::new();
+            let mut cur = parents[node];
+            while let Some(p) = cur {
+                if let Some(pk) = skin_index[p] {
+                    parent_joint[k] = Some(pk);
+                    break;
+                }
+                between.push(p);
+                cur = parents[p];
+            }
+            if parent_joint[k].is_some() {
+                if let Some(&b) = between
+                    .iter()
+                    .find(|&&b| !is_identity(&local_matrix(&nodes[b])))
+                {
+                    return Err(self.skin_error(
+                        skin,
+                        format!(
+                            "node {b} lies between joint nodes {} and {node} but is not a joint of the skin and has a non-identity transform (not supported)",
+                            joint_nodes[parent_joint[k].unwrap_or(0)]
+                        ),
+                    ));
+                }
+            } else {
+                let parent = parents[node];
+                let world = match parent {
+                    Some(p) => self.world(document, parents, p),
+                    None => Matrix4::identity(),
+                };
+                match &base {
+                    None => base = Some((node, parent, world)),
+                    Some((first, first_parent, first_world)) => {
+                        let scale = first_world.abs().max().max(world.abs().max()).max(1.0);
+                        if (first_world - world).abs().max() > MATRIX_TOLERANCE * scale {
+                            return Err(self.skin_error(
+                                skin,
+                                format!(
+                                    "root joints node {first} and node {node} hang from nodes {} and {} with different world transforms; one skeleton base is supported",
+                                    node_name(*first_parent),
+                                    node_name(parent)
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        let (_, _, base) = base.ok_or_else(|| {
+            self.skin_error(skin, "has no root joint (joints form a cycle)".into())
+        })?;
+
+        // Parents-first order, keeping the file's order where it allows.
+        let mut order: Vec<usize> = Vec::with_capacity(joint_nodes.len());
+        let mut joint_id: Vec<Option<u16>> = vec![None; joint_nodes.len()];
+        for k in 0..joint_nodes.len() {
+            let mut chain = Vec::new();
+            let mut cur = Some(k);
+            while let Some(c) = cur {
+                if joint_id[c].is_some() {
+                    break;
+                }
+                chain.push(c);
+                cur = parent_joint[c];
+            }
+            for &c in chain.iter().rev() {
+                joint_id[c] = Some(order.len() as u16);
+                order.push(c);
+            }
+        }
+        let joint_id: Vec<u16> = joint_id.into_iter().map(|j| j.unwrap_or(0)).collect();
+
+        // Inverse bind matrices.
+        let inverse_binds: Vec<Matrix4<f32>> = match skin.inverse_bind_matrices() {
+            None => vec![Matrix4::identity(); joint_nodes.len()],
+            Some(accessor) => {
+                let m =
+                    gltf_accessor::read_mat4_f32(&accessor, self.buffers, "inverseBindMatrices")
+                        .map_err(|e| {
+                            self.skin_error(skin, format!("accessor {}: {e}", accessor.index()))
+                        })?;
+                if m.len() < joint_nodes.len() {
+                    return Err(self.skin_error(
+                        skin,
+                        format!(
+                            "inverseBindMatrices accessor {} has {} matrices for {} joints",
+                            accessor.index(),
+                            m.len(),
+                            joint_nodes.len()
+                        ),
+                    ));
+                }
+                if m.len() > joint_nodes.len() {
+                    self.report.notes.push(format!(
+                        "skin {}: inverseBindMatrices has {} matrices for {} joints; extra ignored",
+                        skin.index(),
+                        m.len(),
+                        joint_nodes.len()
+                    ));
+                }
+                m.iter().map(|c| Matrix4::from_column_slice(c)).collect()
+            }
+        };
+
+        let mut joints = Vec::with_capacity(order.len());
+        for &k in &order {
+            let node = &nodes[joint_nodes[k]];
+            let rest = node_trs(node)
+                .map_err(|e| self.skin_error(skin, format!("joint node {}: {e}", node.index())))?;
+            joints.push(Joint {
+                name: node
+                    .name()
+                    .map(str::to_owned)
+                    .unwrap_or_else(|| format!("node {}", node.index())),
+                parent: parent_joint[k].map(|p| JointId(joint_id[p])),
+                rest,
+                inverse_bind: inverse_binds[k],
+            });
+        }
+        let base32: Matrix4<f32> = base.cast();
+        if !base32.iter().all(|c| c.is_finite()) {
+            return Err(self.skin_error(skin, "the skeleton base transform is not finite".into()));
+        }
+        let skeleton =
+            Skeleton::new(joints, base32).map_err(|e| self.skin_error(skin, e.to_string()))?;
+        if order.iter().enumerate().any(|(i, &k)| i != k) {
+            self.report.notes.push(format!(
+                "skin {}: joints reordered so parents come before children",
+                skin.index()
+            ));
+        }
+        Ok(SkeletonMap {
+            skeleton,
+            joint_nodes,
+            joint_id,
+            skin_index,
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn add_mesh(
+        &mut self,
+        node: usize,
+        mesh: &gltf::Mesh<'_>,
+        skel: &SkeletonMap,
+        positions: &mut Vec<Point>,
+        triangles: &mut Vec<[u32; 3]>,
+        joints: &mut Vec<[u16; 4]>,
+        weights: &mut Vec<[f32; 4]>,
+        ranges: &mut Vec<PrimitiveRange>,
+    ) -> Result<(), LoadError> {
+        let mesh_ref = MeshRef {
+            index: mesh.index(),
+            name: mesh.name().map(str::to_owned),
+        };
+        for primitive in mesh.primitives() {
+            let p = primitive.index();
+            let mode = primitive.mode();
+            if !matches!(
+                mode,
+                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+            ) {
+                self.report.skipped.push(SkippedPrimitive {
+                    node,
+                    mesh: mesh_ref.clone(),
+                    primitive: p,
+                    mode: match mode {
+                        Mode::Points => "POINTS",
+                        Mode::Lines => "LINES",
+                        Mode::LineLoop => "LINE_LOOP",
+                        _ => "LINE_STRIP",
+                    },
+                });
+                continue;
+            }
+            let accessor_error = |accessor: usize, reason: String| LoadError::Accessor {
+                path: self.path.to_owned(),
+                mesh: mesh_ref.clone(),
+                primitive: p,
+                accessor,
+                reason: one_line(&reason),
+            };
+            let skinning_error = |reason: String| LoadError::Skinning {
+                path: self.path.to_owned(),
+                mesh: mesh_ref.clone(),
+                primitive: p,
+                reason: one_line(&reason),
+            };
+            let position_accessor =
+                primitive
+                    .get(&Semantic::Positions)
+                    .ok_or_else(|| LoadError::MissingPosition {
+                        path: self.path.to_owned(),
+                        mesh: mesh_ref.clone(),
+                        primitive: p,
+                    })?;
+            let stored = gltf_accessor::read_positions(&position_accessor, self.buffers)
+                .map_err(|reason| accessor_error(position_accessor.index(), reason))?;
+            if let Some((vertex, &[x, y, z])) = stored
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
+            {
+                return Err(LoadError::NonFinitePosition {
+                    path: self.path.to_owned(),
+                    mesh: mesh_ref.clone(),
+                    primitive: p,
+                    vertex,
+                    x,
+                    y,
+                    z,
+                });
+            }
+            let base = positions.len();
+            if base + stored.len() > u32::MAX as usize {
+                return Err(LoadError::TooLarge {
+                    path: self.path.to_owned(),
+                });
+            }
+
+            // Influence sets 0, 1, ... while present.
+            let mut sets: Vec<InfluenceSet> = Vec::new();
+            for set in 0u32.. {
+                let (j, w) = (
+                    primitive.get(&Semantic::Joints(set)),
+                    primitive.get(&Semantic::Weights(set)),
+                );
+                let (j, w) = match (j, w) {
+                    (None, None) if set == 0 => {
+                        return Err(skinning_error(
+                            "skinned primitive has neither JOINTS_0 nor WEIGHTS_0".into(),
+                        ));
+                    }
+                    (None, None) => break,
+                    (Some(_), None) => {
+                        return Err(skinning_error(format!(
+                            "has JOINTS_{set} but no WEIGHTS_{set}"
+                        )));
+                    }
+                    (None, Some(_)) => {
+                        return Err(skinning_error(format!(
+                            "has WEIGHTS_{set} but no JOINTS_{set}"
+                        )));
+                    }
+                    (Some(j), Some(w)) => (j, w),
+                };
+                let jv = gltf_accessor::read_joints(&j, self.buffers, &format!("JOINTS_{set}"))
+                    .map_err(|reason| accessor_error(j.index(), reason))?;
+                let wv = gltf_accessor::read_weights(&w, self.buffers, &format!("WEIGHTS_{set}"))
+                    .map_err(|reason| accessor_error(w.index(), reason))?;
+                for (what, accessor, len) in [("JOINTS", &j, jv.len()), ("WEIGHTS", &w, wv.len())] {
+                    if len != stored.len() {
+                        return Err(accessor_error(
+                            accessor.index(),
+                            format!(
+                                "{what}_{set} has {len} elements but POSITION has {}",
+                                stored.len()
+                            ),
+                        ));
+                    }
+                }
+                sets.push((jv, wv));
+            }
+
+            let indices = match primitive.indices() {
+                Some(accessor) => {
+                    let indices = gltf_accessor::read_indices(&accessor, self.buffers)
+                        .map_err(|reason| accessor_error(accessor.index(), reason))?;
+                    if let Some((entry, &index)) = indices
+                        .iter()
+                        .enumerate()
+                        .find(|(_, i)| **i as usize >= stored.len())
+                    {
+                        return Err(LoadError::IndexOutOfRange {
+                            path: self.path.to_owned(),
+                            mesh: mesh_ref.clone(),
+                            primitive: p,
+                            accessor: accessor.index(),
+                            entry,
+                            index,
+                            vertex_count: stored.len(),
+                        });
+                    }
+                    indices
+                }
+                None => (0..stored.len() as u32).collect(),
+            };
+            let targets = primitive.morph_targets().len();
+            if targets > 0 {
+                self.report.notes.push(format!(
+                    "node {node}, mesh {mesh_ref} primitive {p}: {targets} morph target(s) ignored, positions as stored"
+                ));
+            }
+
+            // Merge the sets: the four largest weights of each vertex.
+            let remap = |j: u16| -> u16 {
+                // Out-of-range indices stay as they are for Influences::new to report.
+                skel.joint_id.get(j as usize).copied().unwrap_or(j)
+            };
+            let mut truncated = 0usize;
+            for v in 0..stored.len() {
+                let (jj, ww) = if sets.len() == 1 {
+                    (sets[0].0[v], sets[0].1[v])
+                } else {
+                    let mut all: Vec<(u16, f32)> = sets
+                        .iter()
+                        .flat_map(|(j, w)| j[v].into_iter().zip(w[v]))
+                        .collect();
+                    all.sort_by(|a, b| b.1.total_cmp(&a.1));
+                    if all[4..].iter().any(|(_, w)| *w != 0.0) {
+                        truncated += 1;
+                    }
+                    let mut jj = [0u16; 4];
+                    let mut ww = [0f32; 4];
+                    for (k, (j, w)) in all.into_iter().take(4).enumerate() {
+                        jj[k] = j;
+                        ww[k] = w;
+                    }
+                    (jj, ww)
+                };
+                joints.push(jj.map(remap));
+                weights.push(ww);
+            }
+            if sets.len() > 1 {
+                self.report.notes.push(format!(
+                    "node {node}, mesh {mesh_ref} primitive {p}: {} influence sets merged to the 4 largest weights; {truncated} vertices lost a non-zero weight (renormalised)",
+                    sets.len()
+                ));
+            }
+
+            ranges.push(PrimitiveRange {
+                start: base,
+                mesh: mesh_ref.clone(),
+                primitive: p,
+            });
+            positions.extend(stored.iter().map(|v| Point::new(v[0], v[1], v[2])));
+            let before = triangles.len();
+            let offset = base as u32;
+            let (leftover, degenerate) = assemble(mode, &indices, |t| {
+                triangles.push([t[0] + offset, t[1] + offset, t[2] + offset]);
+            });
+            self.report.degenerate_dropped += degenerate;
+            if leftover > 0 {
+                self.report.notes.push(format!(
+                    "node {node}, mesh {mesh_ref} primitive {p}: {} indices is not a multiple of 3; last {leftover} ignored",
+                    indices.len()
+                ));
+            }
+            if triangles.len() == before {
+                self.report.notes.push(format!(
+                    "node {node}, mesh {mesh_ref} primitive {p}: no triangles"
+                ));
+            }
+            self.report.primitives += 1;
+        }
+        Ok(())
+    }
+
+    /// An [`Influences::new`] error, with the global vertex index turned back
+    /// into mesh, primitive and the primitive's own vertex index.
+    fn influence_error(
+        &self,
+        ranges: &[PrimitiveRange],
+        skin: &gltf::Skin<'_>,
+        joint_count: usize,
+        error: SkinError,
+    ) -> LoadError {
+        let (vertex, what) = match &error {
+            SkinError::JointOutOfRange { vertex, joint, .. } => (
+                *vertex,
+                format!(
+                    "joint index {joint} (with non-zero weight) is out of range; skin {} has {joint_count} joints",
+                    skin.index()
+                ),
+            ),
+            SkinError::BadWeights { vertex, sum } => (
+                *vertex,
+                format!("weights sum to {sum}, not a positive finite number"),
+            ),
+            SkinError::Length { .. } => {
+                return self.skin_error(skin, error.to_string());
+            }
+        };
+        let r = ranges
+            .partition_point(|r| r.start <= vertex)
+            .saturating_sub(1);
+        match ranges.get(r) {
+            Some(range) => LoadError::Skinning {
+                path: self.path.to_owned(),
+                mesh: range.mesh.clone(),
+                primitive: range.primitive,
+                reason: format!("vertex {}: {what}", vertex - range.start),
+            },
+            None => self.skin_error(skin, error.to_string()),
+        }
+    }
+
+    fn clips(
+        &mut self,
+        document: &gltf::Document,
+        skel: &SkeletonMap,
+        parents: &[Option<usize>],
+    ) -> Result<Vec<Clip>, LoadError> {
+        // Nodes above the skeleton: animating them would move the (static) base.
+        let mut above = vec![false; document.nodes().len()];
+        for &node in &skel.joint_nodes {
+            if skel.skin_index[node].is_some() {
+                let mut cur = parents[node];
+                while let Some(p) = cur {
+                    if skel.skin_index[p].is_some() {
+                        break;
+                    }
+                    above[p] = true;
+                    cur = parents[p];
+                }
+            }
+        }
+        let mut clips = Vec::new();
+        for animation in document.animations() {
+            let a = animation.index();
+            let name = animation
+                .name()
+                .map(str::to_owned)
+                .unwrap_or_else(|| format!("animation {a}"));
+            let mut channels = Vec::new();
+            let mut sources = Vec::new();
+            for channel in animation.channels() {
+                let c = channel.index();
+                let target = channel.target();
+                let node = target.node().index();
+                let property = target.property();
+                let property_name = match property {
+                    Property::Translation => "translation",
+                    Property::Rotation => "rotation",
+                    Property::Scale => "scale",
+                    Property::MorphTargetWeights => "weights",
+                };
+                let skip = |reason: &str| SkippedChannel {
+                    animation: a,
+                    channel: c,
+                    node,
+                    property: property_name,
+                    reason: reason.to_owned(),
+                };
+                if property == Property::MorphTargetWeights {
+                    self.report
+                        .skipped_channels
+                        .push(skip("morph target weights are not supported"));
+                    continue;
+                }
+                let Some(k) = skel.skin_index.get(node).copied().flatten() else {
+                    let reason = if above.get(node).copied().unwrap_or(false) {
+                        "the node is above the skeleton; the skeleton base is static"
+                    } else {
+                        "the node is not a joint of the skin"
+                    };
+                    self.report.skipped_channels.push(skip(reason));
+                    continue;
+                };
+                let joint = JointId(skel.joint_id[k]);
+                channels.push(self.channel(a, c, &channel, joint, property)?);
+                sources.push(c);
+            }
+            let clip = Clip::new(name, channels, skel.skeleton.len()).map_err(|e| {
+                let channel = match &e {
+                    crate::character::clip::ChannelError::Empty { channel }
+                    | crate::character::clip::ChannelError::BadTimes { channel }
+                    | crate::character::clip::ChannelError::ValueCount { channel, .. }
+                    | crate::character::clip::ChannelError::JointOutOfRange { channel, .. } => {
+                        sources.get(*channel).copied().unwrap_or(*channel)
+                    }
+                };
+                LoadError::Animation {
+                    path: self.path.to_owned(),
+                    animation: a,
+                    channel,
+                    reason: one_line(&e.to_string()),
+                }
+            })?;
+            if clip.channels.is_empty() {
+                self.report.notes.push(format!(
+                    "animation {a} ({:?}) animates no joint of the skin; its clip is empty",
+                    clip.name
+                ));
+            }
+            clips.push(clip);
+        }
+        Ok(clips)
+    }
+
+    fn channel(
+        &self,
+        a: usize,
+        c: usize,
+        channel: &gltf::animation::Channel<'_>,
+        joint: JointId,
+        property: Property,
+    ) -> Result<Channel, LoadError> {
+        let error = |reason: String| LoadError::Animation {
+            path: self.path.to_owned(),
+            animation: a,
+            channel: c,
+            reason: one_line(&reason),
+        };
+        let sampler = channel.sampler();
+        let s = sampler.index();
+        let (input, output) = (sampler.input(), sampler.output());
+        let times = gltf_accessor::read_scalars_f32(&input, self.buffers, "sampler input")
+            .map_err(|e| error(format!("sampler {s} input accessor {}: {e}", input.index())))?;
+        if times.is_empty() {
+            return Err(error(format!("sampler {s} has no keyframes")));
+        }
+        if !times.iter().all(|t| t.is_finite()) || times.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(error(format!(
+                "sampler {s}: keyframe times are not finite and strictly increasing"
+            )));
+        }
+        let interpolation = match sampler.interpolation() {
+            GltfInterpolation::Step => Interpolation::Step,
+            GltfInterpolation::Linear => Interpolation::Linear,
+            GltfInterpolation::CubicSpline => Interpolation::CubicSpline,
+        };
+        let per_key = if interpolation == Interpolation::CubicSpline {
+            3
+        } else {
+            1
+        };
+        let expected = per_key * times.len();
+        if output.count() != expected {
+            return Err(error(format!(
+                "sampler {s}: input has {} keyframes but output has {} values ({interpolation:?} needs {expected})",
+                times.len(),
+                output.count()
+            )));
+        }
+        let out_error = |e: String| {
+            error(format!(
+                "sampler {s} output accessor {}: {e}",
+                output.index()
+            ))
+        };
+        let vec3 = |v: Vec<[f32; 3]>| v.into_iter().map(Vector3::from).collect::<Vec<_>>();
+        let values = match property {
+            Property::Translation => ChannelValues::Translation(vec3(
+                gltf_accessor::read_vec3_f32(&output, self.buffers, "translation output")
+                    .map_err(out_error)?,
+            )),
+            Property::Scale => ChannelValues::Scale(vec3(
+                gltf_accessor::read_vec3_f32(&output, self.buffers, "scale output")
+                    .map_err(out_error)?,
+            )),
+            Property::Rotation => ChannelValues::Rotation(
+                gltf_accessor::read_rotations(&output, self.buffers, "rotation output")
+                    .map_err(out_error)?
+                    .into_iter()
+                    .map(|[x, y, z, w]| Quaternion::new(w, x, y, z))
+                    .collect(),
+            ),
+            Property::MorphTargetWeights => {
+                return Err(error("morph target weights are not supported".into()));
+            }
+        };
+        Ok(Channel {
+            joint,
+            interpolation,
+            times,
+            values,
+        })
+    }
+}
+
+/// The skeleton and how the file's nodes and skin joints map onto it.
+struct SkeletonMap {
+    skeleton: Skeleton,
+    /// Node of each skin joint, in the skin's order.
+    joint_nodes: Vec<usize>,
+    /// Our joint index of each skin joint (skin order).
+    joint_id: Vec<u16>,
+    /// Skin joint index of each node of the file.
+    skin_index: Vec<Option<usize>>,
+}
+
+fn node_name(node: Option<usize>) -> String {
+    match node {
+        Some(n) => format!("node {n}"),
+        None => "the scene root".to_owned(),
+    }
+}
+
+fn is_identity(m: &Matrix4<f64>) -> bool {
+    (m - Matrix4::identity()).abs().max() <= MATRIX_TOLERANCE
+}
+
+/// A node's local transform as TRS; a `matrix` is decomposed.
+fn node_trs(node: &gltf::Node<'_>) -> Result<Trs, String> {
+    match node.transform() {
+        Transform::Decomposed {
+            translation,
+            rotation: [x, y, z, w],
+            scale,
+        } => {
+            let q = Quaternion::new(w, x, y, z);
+            if !(q.norm() > 0.0 && q.norm().is_finite()) {
+                return Err(format!(
+                    "rotation {:?} is not a usable quaternion",
+                    [x, y, z, w]
+                ));
+            }
+            Ok(Trs {
+                translation: Vector3::from(translation),
+                rotation: UnitQuaternion::from_quaternion(q),
+                scale: Vector3::from(scale),
+            })
+        }
+        Transform::Matrix { matrix } => decompose(&matrix),
+    }
+}
+
+/// `matrix[column][row]` as translation · rotation · scale. A negative
+/// determinant becomes a negative x scale; shear, projection or a zero scale
+/// is an error.
+fn decompose(matrix: &[[f32; 4]; 4]) -> Result<Trs, String> {
+    let m = Matrix4::from_fn(|r, c| f64::from(matrix[c][r]));
+    if !m.iter().all(|v| v.is_finite()) {
+        return Err("matrix is not finite".into());
+    }
+    let bottom = [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)] - 1.0];
+    if bottom.iter().any(|v| v.abs() > MATRIX_TOLERANCE) {
+        return Err("matrix has a projective bottom row; not a TRS transform".into());
+    }
+    let linear: Matrix3<f64> = m.fixed_view::<3, 3>(0, 0).into_owned();
+    let mut scale = Vector3::new(
+        linear.column(0).norm(),
+        linear.column(1).norm(),
+        linear.column(2).norm(),
+    );
+    if scale.iter().any(|s| *s < 1e-12) {
+        return Err("matrix has a zero scale; cannot decompose into TRS".into());
+    }
+    if linear.determinant() < 0.0 {
+        scale.x = -scale.x;
+    }
+    let r = Matrix3::from_fn(|i, j| linear[(i, j)] / scale[j]);
+    let off = (r.transpose() * r - Matrix3::identity()).abs().max();
+    if off > MATRIX_TOLERANCE {
+        return Err(format!(
+            "matrix has shear (columns off-orthogonal by {off:.2e}); cannot decompose into TRS"
+        ));
+    }
+    let rotation = UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(r));
+    Ok(Trs {
+        translation: Vector3::new(m[(0, 3)], m[(1, 3)], m[(2, 3)]).cast(),
+        rotation: rotation.cast(),
+        scale: scale.cast(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decompose_round_trips_and_rejects_shear() {
+        let t = Trs {
+            translation: Vector3::new(1.0, -2.0, 3.0),
+            rotation: UnitQuaternion::from_euler_angles(0.3, -1.2, 2.0),
+            scale: Vector3::new(-2.0, 0.5, 1.5),
+        };
+        let m = t.to_matrix();
+        let cols: [[f32; 4]; 4] = std::array::from_fn(|c| std::array::from_fn(|r| m[(r, c)]));
+        let back = decompose(&cols).expect("TRS matrix decomposes");
+        assert!((back.to_matrix() - m).abs().max() < 1e-5);
+        let mut shear = cols;
+        shear[1][0] = 0.7;
+        assert!(decompose(&shear).unwrap_err().contains("shear"));
+        let mut zero = cols;
+        zero[2] = [0.0; 4];
+        assert!(decompose(&zero).unwrap_err().contains("zero scale"));
+    }
+}
