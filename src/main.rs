@@ -44,6 +44,10 @@ struct TablesArgs {
     /// Seed of the generated rooms.
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// Also cost a static glTF scene of your own (every mesh, node transforms
+    /// applied; degenerate triangles are reported and left out).
+    #[arg(long)]
+    scene: Option<std::path::PathBuf>,
 }
 
 #[derive(clap::Args)]
@@ -186,7 +190,26 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
 fn tables(args: TablesArgs) -> anyhow::Result<()> {
     use cornertree::environment::{living_room, museum};
     let (m, l) = (museum(args.seed), living_room(args.seed));
-    let report = cornertree::report::tables::tables(&[("museum", &m), ("living_room", &l)], args.threshold, BuildParams::default());
+    let scene = match &args.scene {
+        Some(path) => {
+            let (env, report) = cornertree::environment::load_scene(path)?;
+            if report.degenerate_removed > 0 {
+                eprintln!(
+                    "note: {}: {} degenerate triangles left out (first: {:?})",
+                    path.display(),
+                    report.degenerate_removed,
+                    report.first_degenerate
+                );
+            }
+            Some(env)
+        }
+        None => None,
+    };
+    let mut rooms = vec![("museum", &m), ("living_room", &l)];
+    if let Some(env) = &scene {
+        rooms.push(("scene", env));
+    }
+    let report = cornertree::report::tables::tables(&rooms, args.threshold, BuildParams::default());
     if args.json {
         emit(&(serde_json::to_string(&report)? + "\n"))
     } else {
