@@ -82,6 +82,15 @@ impl PoseBuffers {
         character.skeleton.skin_matrices(&self.world, &mut self.skin);
     }
 
+    /// Moves the posed character rigidly: premultiplies world and skin matrices
+    /// by `placement` (call after [`PoseBuffers::pose`], before skinning). The
+    /// skeleton's base frame moves with it: use `placement · base` for refit.
+    pub fn place(&mut self, placement: &Matrix4<f32>) {
+        for m in self.world.iter_mut().chain(self.skin.iter_mut()) {
+            *m = placement * *m;
+        }
+    }
+
     /// Skins every vertex with `model` from the current skin matrices.
     pub fn skin_all(&mut self, character: &Character, model: SkinningModel) {
         let bind = character.mesh.positions();

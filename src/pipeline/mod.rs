@@ -3,9 +3,11 @@
 //!
 //! | file | what | paper |
 //! |---|---|---|
+//! | [`driver`] | one method's per-frame pipeline: pose, on-demand refit, traversal, narrow phase, counters | §3–6 |
 //! | [`method`] | [`Method`]: original, sphere division, plane-sphere, quaternary plane-sphere | §5, §6 |
 //! | [`environment_tree`] | the environment's sphere tree with big-triangle hierarchies grafted in | §5 |
 
+pub mod driver;
 pub mod environment_tree;
 pub mod method;
 

@@ -304,6 +304,12 @@ impl RefitState {
 
     /// Starts a frame: every sphere becomes stale. No allocation.
     pub fn begin_frame(&mut self, skeleton: &Skeleton, skin: &[Matrix4<f32>]) {
+        self.begin_frame_with_base(skin, skeleton.base());
+    }
+
+    /// [`RefitState::begin_frame`] with an explicit base frame (a placed
+    /// character's base is `placement · base`).
+    pub fn begin_frame_with_base(&mut self, skin: &[Matrix4<f32>], base: &Matrix4<f32>) {
         self.frame = self.frame.wrapping_add(1).max(1);
         if self.frame == 1 {
             self.stamp.fill(0);
@@ -312,7 +318,7 @@ impl RefitState {
         for (s, m) in self.sigma.iter_mut().zip(skin) {
             *s = stretch(m);
         }
-        *self.sigma.last_mut().unwrap() = stretch(skeleton.base());
+        *self.sigma.last_mut().unwrap() = stretch(base);
     }
 
     /// Whether node `id` has been refit this frame.

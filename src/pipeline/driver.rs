@@ -1,0 +1,232 @@
+//! The per-frame collision pipeline for one method (paper §3–6).
+//!
+//! Each frame: the character is posed and placed, every vertex skinned; the
+//! character's tree is traversed against the environment's, refitting each
+//! character sphere the first time traversal reaches it (on demand); the
+//! overlapping leaf pairs are gathered and then answered by the narrow phase:
+//! the triangle-triangle test, or inside a big triangle's corner-tree or
+//! quaternary tree the plane-sphere test of the character leaf's sphere against
+//! the big triangle's plane. Counters follow the paper's operation model.
+//!
+//! Time is split into skinning, refit, traversal and narrow phase. Refit runs
+//! inside traversal; its share is measured with the CPU's time-stamp counter
+//! around each refit (a few nanoseconds each) and taken out of traversal.
+//! After the first frame nothing is allocated.
+
+use std::time::Instant;
+
+use nalgebra::Matrix4;
+use serde::Serialize;
+
+use crate::character::{Character, Clip, PoseBuffers, SkinningModel};
+use crate::geometry::ops;
+use crate::geometry::plane_sphere::sphere_meets_plane;
+use crate::geometry::tri_tri::triangles_intersect;
+use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
+use crate::sphere_tree::character::CharacterTree;
+use crate::sphere_tree::refit::{RefitState, Refitter};
+use crate::sphere_tree::traverse::LeafPair;
+use crate::sphere_tree::{BuildParams, Hierarchy, NodeId, SphereTree, Workspace, traverse};
+
+use super::{EnvironmentTree, LeafTest, Method};
+
+/// What one frame cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct FrameCounters {
+    pub sphere_sphere: u64,
+    pub tri_tri: u64,
+    pub plane_sphere: u64,
+    /// Character spheres refit this frame.
+    pub refits: u64,
+    /// Distinct colliding (character triangle, environment triangle) pairs.
+    pub pairs: u64,
+    pub time: FrameTime,
+}
+
+/// Milliseconds spent per stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct FrameTime {
+    pub skinning_ms: f64,
+    pub refit_ms: f64,
+    pub traversal_ms: f64,
+    pub narrow_ms: f64,
+}
+
+impl FrameTime {
+    pub fn total_ms(&self) -> f64 {
+        self.skinning_ms + self.refit_ms + self.traversal_ms + self.narrow_ms
+    }
+}
+
+impl FrameCounters {
+    /// Basic operations in the paper's model: `10·SS + 96·TT + 30·PS` (§6).
+    pub fn operations(&self) -> u64 {
+        ops::SPHERE_SPHERE * self.sphere_sphere + ops::TRI_TRI * self.tri_tri + ops::PLANE_SPHERE * self.plane_sphere
+    }
+}
+
+/// Settings shared by every method of a run.
+#[derive(Clone, Copy, Debug)]
+pub struct PipelineOptions {
+    pub skinning: SkinningModel,
+    /// Leave out triangles whose edges are all covered (§4), on the character.
+    pub dedup: bool,
+    /// Big-triangle threshold in metres.
+    pub threshold: f32,
+    pub build: BuildParams,
+}
+
+/// Everything one method keeps between frames.
+pub struct Pipeline {
+    pub method: Method,
+    pub character_tree: CharacterTree,
+    pub environment: EnvironmentTree,
+    refit: RefitState,
+    workspace: Workspace,
+    leaf_pairs: Vec<LeafPair>,
+    /// This frame's colliding pairs, sorted, distinct.
+    pub pairs: Vec<(u32, u32)>,
+    options: PipelineOptions,
+}
+
+/// [`Hierarchy`] over the character tree that refits on first request and
+/// counts the time-stamp ticks spent refitting.
+struct TimedRefit<'a> {
+    refitter: Refitter<'a>,
+    base: Matrix4<f32>,
+    ticks: u64,
+}
+
+impl Hierarchy for TimedRefit<'_> {
+    fn tree(&self) -> &SphereTree {
+        &self.refitter.tree.tree
+    }
+
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> crate::geometry::Sphere {
+        if self.refitter.state.is_fresh(id) {
+            return self.refitter.state.spheres[id.index()];
+        }
+        let t0 = ticks();
+        let base = self.base;
+        let s = self.refitter.refit_node(id, &base);
+        self.ticks += ticks().wrapping_sub(t0);
+        s
+    }
+}
+
+#[inline]
+fn ticks() -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: RDTSC has no preconditions on x86_64.
+        unsafe { std::arch::x86_64::_rdtsc() }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        use std::sync::OnceLock;
+        static START: OnceLock<Instant> = OnceLock::new();
+        START.get_or_init(Instant::now).elapsed().as_nanos() as u64
+    }
+}
+
+impl Pipeline {
+    /// Builds the character's and the environment's hierarchies for `method`.
+    pub fn new(character: &Character, environment: &TriMesh, method: Method, options: PipelineOptions) -> Self {
+        let dedup = if options.dedup { dedup_edges(&character.mesh) } else { EdgeDedup::keep_all(&character.mesh) };
+        let character_tree = CharacterTree::build(character, &dedup, options.skinning, options.build);
+        let environment = EnvironmentTree::build(environment, method, options.threshold, options.build);
+        let refit = RefitState::new(&character_tree, character.skeleton.len());
+        Self {
+            method,
+            character_tree,
+            environment,
+            refit,
+            workspace: Workspace::new(),
+            leaf_pairs: Vec::new(),
+            pairs: Vec::new(),
+            options,
+        }
+    }
+
+    /// Bytes of both sphere hierarchies (the "Data" row of Tables 2–3).
+    pub fn hierarchy_bytes(&self) -> usize {
+        self.character_tree.tree.bytes() + self.environment.bytes()
+    }
+
+    /// This frame's refit spheres of the character (valid where refit).
+    pub fn refit_state(&self) -> &RefitState {
+        &self.refit
+    }
+
+    /// Runs one frame on an already posed, placed and skinned character
+    /// (`buffers`), against the environment triangles `env` (positions may
+    /// differ from the build pose only for static content; moving objects are
+    /// not re-fit here). `base` is the placed skeleton base.
+    pub fn detect(&mut self, buffers: &PoseBuffers, base: &Matrix4<f32>, character: &TriMesh, env: &TriMesh) -> FrameCounters {
+        let mut c = FrameCounters::default();
+        self.refit.begin_frame_with_base(&buffers.skin, base);
+        let t0 = Instant::now();
+        let tick0 = ticks();
+        let mut od = TimedRefit {
+            refitter: Refitter { tree: &self.character_tree, skin: &buffers.skin, state: &mut self.refit },
+            base: *base,
+            ticks: 0,
+        };
+        self.leaf_pairs.clear();
+        let leaf_pairs = &mut self.leaf_pairs;
+        let stats = traverse(&mut od, &mut self.environment.tree, &mut self.workspace, |p| leaf_pairs.push(p));
+        let refit_ticks = od.ticks;
+        let elapsed = t0.elapsed().as_secs_f64() * 1e3;
+        let total_ticks = ticks().wrapping_sub(tick0).max(1);
+        c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
+        c.time.traversal_ms = elapsed - c.time.refit_ms;
+        c.sphere_sphere = stats.sphere_tests;
+        c.refits = self.refit.refits;
+
+        // Narrow phase.
+        let t0 = Instant::now();
+        self.pairs.clear();
+        let positions = &buffers.positions;
+        for p in &self.leaf_pairs {
+            let et = env.triangle(TriangleId(p.primitive_b));
+            let hit = if self.environment.is_division_leaf(p.leaf_b) && self.method.big_leaf_test() == LeafTest::PlaneSphere {
+                c.plane_sphere += 1;
+                sphere_meets_plane(&self.refit.spheres[p.leaf_a.index()], &et)
+            } else {
+                c.tri_tri += 1;
+                let [a, b, cc] = character.indices()[p.primitive_a as usize];
+                let ct = crate::geometry::Triangle::new(positions[a as usize], positions[b as usize], positions[cc as usize]);
+                triangles_intersect(&ct, &et)
+            };
+            if hit {
+                self.pairs.push((p.primitive_a, p.primitive_b));
+            }
+        }
+        self.pairs.sort_unstable();
+        self.pairs.dedup();
+        c.pairs = self.pairs.len() as u64;
+        c.time.narrow_ms = t0.elapsed().as_secs_f64() * 1e3;
+        c
+    }
+
+    pub fn options(&self) -> &PipelineOptions {
+        &self.options
+    }
+}
+
+/// Poses, places and skins a character for one frame, timing it.
+pub fn pose_frame(
+    buffers: &mut PoseBuffers,
+    character: &Character,
+    clip: Option<&Clip>,
+    t: f32,
+    placement: &Matrix4<f32>,
+    model: SkinningModel,
+) -> (Matrix4<f32>, f64) {
+    let t0 = Instant::now();
+    buffers.pose(character, clip, t);
+    buffers.place(placement);
+    buffers.skin_all(character, model);
+    (placement * character.skeleton.base(), t0.elapsed().as_secs_f64() * 1e3)
+}

@@ -1,0 +1,120 @@
+//! The per-frame pipeline against brute force, per method; determinism.
+
+mod common;
+
+use std::collections::BTreeSet;
+
+use cornertree::character::{Character, PoseBuffers, SkinningModel};
+use cornertree::geometry::tri_tri::triangles_intersect;
+use cornertree::geometry::{Point, Triangle};
+use cornertree::mesh::TriMesh;
+use cornertree::pipeline::driver::{FrameCounters, Pipeline, PipelineOptions};
+use cornertree::pipeline::{LeafTest, Method};
+use cornertree::sphere_tree::BuildParams;
+use nalgebra::{Matrix4, Vector3};
+use rand::{Rng, SeedableRng, rngs::SmallRng};
+
+/// Small random triangles plus a few big ones, around (3, 3, 3).
+fn environment(seed: u64) -> TriMesh {
+    let small = common::soup(seed, 400, 6.0, 0.2);
+    let mut p = small.positions().to_vec();
+    let mut t = small.indices().to_vec();
+    let mut rng = SmallRng::seed_from_u64(seed ^ 99);
+    for _ in 0..5 {
+        let base = p.len() as u32;
+        for _ in 0..3 {
+            p.push(Point::new(rng.random_range(-1.0..7.0), rng.random_range(-1.0..7.0), rng.random_range(-1.0..7.0)));
+        }
+        t.push([base, base + 1, base + 2]);
+    }
+    TriMesh::new(p, t).unwrap()
+}
+
+fn brute_force(character: &Character, positions: &[Point], env: &TriMesh) -> BTreeSet<(u32, u32)> {
+    let tri = |i: usize| {
+        let [a, b, c] = character.mesh.indices()[i];
+        Triangle::new(positions[a as usize], positions[b as usize], positions[c as usize])
+    };
+    let mut out = BTreeSet::new();
+    for i in 0..character.mesh.triangle_count() {
+        let ct = tri(i);
+        for (e, et) in env.iter_triangles() {
+            if triangles_intersect(&ct, &et) {
+                out.insert((i as u32, e.0));
+            }
+        }
+    }
+    out
+}
+
+fn options(dedup: bool) -> PipelineOptions {
+    PipelineOptions { skinning: SkinningModel::Linear, dedup, threshold: 1.0, build: BuildParams::default() }
+}
+
+#[test]
+fn every_method_against_brute_force() {
+    let mut contacts = 0;
+    for seed in 0..4u64 {
+        let character = common::random_character(seed, 6, 300);
+        let env = environment(seed);
+        let placement = Matrix4::new_translation(&Vector3::new(3.0, 3.0, 3.0));
+        for dedup in [false, true] {
+            let mut pipes: Vec<Pipeline> = Method::ALL.iter().map(|&m| Pipeline::new(&character, &env, m, options(dedup))).collect();
+            let mut buffers = PoseBuffers::new(&character);
+            for frame in 0..3u64 {
+                let local = common::random_pose(seed * 10 + frame, &character.skeleton, 1.0);
+                buffers.local.copy_from_slice(&local);
+                // Pose by hand (random poses are not a clip), then place and skin.
+                character.skeleton.world_matrices(&buffers.local, &mut buffers.world);
+                character.skeleton.skin_matrices(&buffers.world, &mut buffers.skin);
+                buffers.place(&placement);
+                buffers.skin_all(&character, SkinningModel::Linear);
+                let base = placement * character.skeleton.base();
+                let exact = brute_force(&character, &buffers.positions, &env);
+                contacts += exact.len();
+                for p in &mut pipes {
+                    let c = p.detect(&buffers, &base, &character.mesh, &env);
+                    let got: BTreeSet<(u32, u32)> = p.pairs.iter().copied().collect();
+                    assert_eq!(c.pairs as usize, got.len());
+                    let m = p.method;
+                    match (m.big_leaf_test(), dedup) {
+                        (LeafTest::TriTri, false) => assert_eq!(got, exact, "seed {seed} frame {frame} {m}"),
+                        (LeafTest::TriTri, true) => assert!(got.is_subset(&exact), "{m}: dedup only removes"),
+                        (LeafTest::PlaneSphere, false) => assert!(got.is_superset(&exact), "seed {seed} frame {frame} {m}: missed contacts"),
+                        (LeafTest::PlaneSphere, true) => {}
+                    }
+                    if m == Method::Original {
+                        assert_eq!(c.plane_sphere, 0);
+                    }
+                    assert_eq!(c.operations(), 10 * c.sphere_sphere + 96 * c.tri_tri + 30 * c.plane_sphere);
+                }
+            }
+        }
+    }
+    assert!(contacts > 50, "the scenes must collide ({contacts} contacts)");
+}
+
+#[test]
+fn same_inputs_same_counters_and_pairs() {
+    let character = common::random_character(3, 5, 200);
+    let env = environment(3);
+    let placement = Matrix4::new_translation(&Vector3::new(3.0, 3.0, 3.0));
+    let run = || -> Vec<(FrameCounters, Vec<(u32, u32)>)> {
+        let mut p = Pipeline::new(&character, &env, Method::PlaneSphere, options(true));
+        let mut b = PoseBuffers::new(&character);
+        (0..4)
+            .map(|k| {
+                let local = common::random_pose(k, &character.skeleton, 1.0);
+                b.local.copy_from_slice(&local);
+                character.skeleton.world_matrices(&b.local, &mut b.world);
+                character.skeleton.skin_matrices(&b.world, &mut b.skin);
+                b.place(&placement);
+                b.skin_all(&character, SkinningModel::Linear);
+                let mut c = p.detect(&b, &(placement * character.skeleton.base()), &character.mesh, &env);
+                c.time = Default::default();
+                (c, p.pairs.clone())
+            })
+            .collect()
+    };
+    assert_eq!(run(), run());
+}
