@@ -5,9 +5,11 @@
 //! | [`animate`] | clip playback: refit containment, tightness, per-frame costs |
 //! | [`inspect`] | static mesh summary: counts, de-duplication, tree shape and bytes |
 //! | [`paper`] | the paper's published figures, printed beside ours and labelled |
+//! | [`run`] | per-frame counters per method and the Tables 2–3 style summary |
 //! | [`tables`] | Table 1 and the environment hierarchies per method |
 
 pub mod animate;
 pub mod inspect;
 pub mod paper;
+pub mod run;
 pub mod tables;
