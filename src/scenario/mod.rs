@@ -8,7 +8,8 @@
 //! | [`resolve`](mod@resolve) | [`resolve()`]: character, room, clip, frame times, and per-frame placement ([`Resolved`]); the "gap" placement of §6's extreme conditions |
 //!
 //! Every error is one line: `file:line:column: field: problem`, the line and
-//! column when the TOML parser reports a span. Nothing here panics on bad input.
+//! column when the TOML parser reports a span (its own errors quote the
+//! offending line instead of a field). Nothing here panics on bad input.
 
 pub mod resolve;
 
