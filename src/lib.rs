@@ -15,6 +15,7 @@
 //! | [`environment`] | generated rooms (museum, living room) of big and small triangles, moving doors; static glTF scenes | §4, §6 |
 //! | [`pipeline`] | methods, the environment hierarchy per method | §5–6 |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
+//! | [`scenario`] | scenario files (TOML): character, clip, room, placement (start, path, gap to a surface), methods | §6 |
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
 
@@ -26,4 +27,5 @@ pub mod io;
 pub mod mesh;
 pub mod pipeline;
 pub mod report;
+pub mod scenario;
 pub mod sphere_tree;

@@ -1,0 +1,443 @@
+//! Scenario files: one TOML file says which character plays which clip in which
+//! room, where it stands or walks, and which methods to compare (paper §6). The
+//! format is described in `docs/scenarios.md`; `scenarios/` ships examples.
+//!
+//! | file | what |
+//! |---|---|
+//! | `mod.rs` | [`Scenario`], its sections, [`load_scenario`], [`ScenarioError`] |
+//! | [`resolve`](mod@resolve) | [`resolve()`]: character, room, clip, frame times, and per-frame placement ([`Resolved`]); the "gap" placement of §6's extreme conditions |
+//!
+//! Every error is one line: `file:line:column: field: problem`, the line and
+//! column when the TOML parser reports a span (its own errors quote the
+//! offending line instead of a field). Nothing here panics on bad input.
+
+pub mod resolve;
+
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::character::SkinningModel;
+use crate::geometry::Real;
+use crate::io::CharacterSource;
+use crate::pipeline::{DEFAULT_THRESHOLD, Method};
+
+pub use resolve::{GapReport, PlacementPlan, Resolved, resolve};
+
+/// A scenario as read from a file; asset paths are as found on disk (see
+/// [`load_scenario`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scenario {
+    /// The file it was read from (for messages); empty for [`Scenario::parse`] of a string without a name.
+    pub file: PathBuf,
+    pub character: CharacterSection,
+    pub environment: EnvironmentSection,
+    pub placement: Placement,
+    /// Frames to play; `None`: every frame of the clip at `fps`.
+    pub frames: Option<usize>,
+    pub fps: Real,
+    pub methods: Vec<Method>,
+    /// De-duplicate shared edges of the character mesh (§4).
+    pub dedup: bool,
+    /// Big-triangle threshold in metres (longest edge).
+    pub threshold: Real,
+    pub recording: Recording,
+    /// Where `placement.gap.surface` was written, for messages of [`resolve()`].
+    pub(crate) surface_at: Option<Location>,
+}
+
+/// `[character]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CharacterSection {
+    pub source: CharacterSource,
+    /// Clip name; `None`: the character's first clip.
+    pub clip: Option<String>,
+    pub skinning: SkinningModel,
+}
+
+/// `[environment]`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvironmentSection {
+    Museum { seed: u64 },
+    LivingRoom { seed: u64 },
+    Gltf { path: PathBuf },
+}
+
+/// `[placement]`: exactly one of `start`, `path`, `gap`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Placement {
+    /// A fixed transform for every frame.
+    Start(Transform),
+    /// Walk piecewise-linearly through waypoints at a constant speed, facing the walking direction.
+    Path(WalkPath),
+    /// Keep a gap to a surface over the whole clip.
+    Gap(Gap),
+}
+
+/// A rigid transform: yaw about +Y, then translation.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    pub translation: [Real; 3],
+    #[serde(default)]
+    pub yaw_degrees: Real,
+}
+
+/// Waypoints (positions of the character's origin) walked at `speed` m/s.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WalkPath {
+    pub waypoints: Vec<[Real; 3]>,
+    #[serde(default = "default_speed")]
+    pub speed: Real,
+}
+
+/// "Keep a gap of `metres` from `surface` over the whole clip". A negative gap
+/// is allowed on purpose: the character then penetrates the surface by that
+/// much at its deepest (the `touching` scenario).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Gap {
+    /// Object name in the environment (e.g. `"south wall"`).
+    pub surface: String,
+    pub metres: Real,
+    /// World yaw of the character; default: its +Z (forward) along the surface.
+    #[serde(default)]
+    pub yaw_degrees: Option<Real>,
+}
+
+/// `[recording]`: options kept for later commands.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Recording {
+    #[serde(default)]
+    pub all_spheres: bool,
+    #[serde(default = "one")]
+    pub mesh_every: u32,
+}
+
+impl Default for Recording {
+    fn default() -> Self {
+        Self { all_spheres: false, mesh_every: 1 }
+    }
+}
+
+fn default_speed() -> Real {
+    1.2
+}
+fn one() -> u32 {
+    1
+}
+
+/// A line and column (both from 1) in a scenario file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Location {
+    pub line: usize,
+    pub column: usize,
+}
+
+/// A scenario problem, displayed on one line: `file[:line:column]: [field: ]problem`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub struct ScenarioError {
+    pub file: PathBuf,
+    pub at: Option<Location>,
+    /// Dotted field name, when known (`placement.gap.surface`).
+    pub field: Option<String>,
+    pub message: String,
+}
+
+impl fmt::Display for ScenarioError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.file.display())?;
+        if let Some(at) = self.at {
+            write!(f, ":{}:{}", at.line, at.column)?;
+        }
+        f.write_str(": ")?;
+        if let Some(field) = &self.field {
+            write!(f, "{field}: ")?;
+        }
+        f.write_str(&self.message)
+    }
+}
+
+impl ScenarioError {
+    pub(crate) fn new(file: &Path, at: Option<Location>, field: Option<&str>, message: impl Into<String>) -> Self {
+        Self { file: file.to_owned(), at, field: field.map(str::to_owned), message: one_line(&message.into()) }
+    }
+}
+
+/// Collapses a message onto one line.
+fn one_line(s: &str) -> String {
+    s.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("; ")
+}
+
+/// Line and column (from 1, column in characters) of byte `offset` in `text`.
+fn locate(text: &str, offset: usize) -> Location {
+    let mut offset = offset.min(text.len());
+    while !text.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &text[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    Location { line, column: text[line_start..offset].chars().count() + 1 }
+}
+
+/// The trimmed text of the line holding byte `offset`, shortened.
+fn line_text(text: &str, offset: usize) -> String {
+    let loc = locate(text, offset);
+    let line = text.lines().nth(loc.line - 1).unwrap_or("").trim();
+    let mut s: String = line.chars().take(60).collect();
+    if line.chars().count() > 60 {
+        s.push('…');
+    }
+    s
+}
+
+// ---- The file as written: spans kept where later checks need a line. ----
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScenario {
+    character: RawCharacter,
+    environment: Spanned<RawEnvironment>,
+    placement: Spanned<RawPlacement>,
+    frames: Option<Spanned<i64>>,
+    fps: Option<Spanned<f64>>,
+    methods: Option<Spanned<Vec<Method>>>,
+    dedup: Option<bool>,
+    threshold: Option<Spanned<f64>>,
+    #[serde(default)]
+    recording: Option<Spanned<Recording>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCharacter {
+    source: Spanned<String>,
+    clip: Option<String>,
+    #[serde(default = "linear")]
+    skinning: SkinningModel,
+}
+
+fn linear() -> SkinningModel {
+    SkinningModel::Linear
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq, Debug)]
+#[serde(rename_all = "kebab-case")]
+enum EnvKind {
+    Museum,
+    LivingRoom,
+    Gltf,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEnvironment {
+    kind: EnvKind,
+    seed: Option<u64>,
+    path: Option<Spanned<String>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPlacement {
+    start: Option<Transform>,
+    path: Option<Spanned<WalkPath>>,
+    gap: Option<Spanned<Gap>>,
+}
+
+impl Scenario {
+    /// Parses and checks scenario text; `file` names it in messages and its
+    /// directory (then the current directory) is where relative asset paths
+    /// are looked for. Asset paths are replaced by the paths found.
+    pub fn parse(text: &str, file: &Path) -> Result<Scenario, ScenarioError> {
+        let err_at = |span: Range<usize>, field: &str, msg: String| {
+            ScenarioError::new(file, Some(locate(text, span.start)), Some(field), msg)
+        };
+        let raw: RawScenario = toml::from_str(text).map_err(|e| {
+            let at = e.span().map(|s| locate(text, s.start));
+            let near = e.span().map(|s| line_text(text, s.start)).filter(|l| !l.is_empty());
+            let msg = match near {
+                Some(l) => format!("{} (at `{l}`)", one_line(e.message())),
+                None => one_line(e.message()),
+            };
+            ScenarioError::new(file, at, None, msg)
+        })?;
+        let base = file.parent().unwrap_or(Path::new(""));
+
+        // [character]
+        let src = &raw.character.source;
+        let mut source: CharacterSource = src
+            .get_ref()
+            .parse()
+            .map_err(|e: crate::io::SourceError| err_at(src.span(), "character.source", e.to_string()))?;
+        if let CharacterSource::File(p) = &source {
+            let found = find_asset(base, p).ok_or_else(|| {
+                err_at(src.span(), "character.source", missing(base, p))
+            })?;
+            source = CharacterSource::File(found);
+        }
+        let character = CharacterSection { source, clip: raw.character.clip, skinning: raw.character.skinning };
+
+        // [environment]
+        let env_span = raw.environment.span();
+        let env = raw.environment.into_inner();
+        let environment = match env.kind {
+            EnvKind::Museum | EnvKind::LivingRoom => {
+                if let Some(p) = &env.path {
+                    return Err(err_at(p.span(), "environment.path", "only for kind = \"gltf\"".into()));
+                }
+                let seed = env.seed.unwrap_or(0);
+                if env.kind == EnvKind::Museum {
+                    EnvironmentSection::Museum { seed }
+                } else {
+                    EnvironmentSection::LivingRoom { seed }
+                }
+            }
+            EnvKind::Gltf => {
+                let Some(p) = env.path else {
+                    return Err(err_at(env_span, "environment.path", "kind = \"gltf\" needs a path".into()));
+                };
+                if env.seed.is_some() {
+                    return Err(err_at(env_span, "environment.seed", "a glTF scene takes no seed".into()));
+                }
+                let path = PathBuf::from(p.get_ref());
+                let found = find_asset(base, &path)
+                    .ok_or_else(|| err_at(p.span(), "environment.path", missing(base, &path)))?;
+                EnvironmentSection::Gltf { path: found }
+            }
+        };
+
+        // [placement]
+        let pl_span = raw.placement.span();
+        let pl = raw.placement.into_inner();
+        let count = usize::from(pl.start.is_some()) + usize::from(pl.path.is_some()) + usize::from(pl.gap.is_some());
+        if count != 1 {
+            return Err(err_at(
+                pl_span,
+                "placement",
+                format!("give exactly one of start, path, gap (found {count})"),
+            ));
+        }
+        let mut surface_at = None;
+        let placement = if let Some(t) = pl.start {
+            if !t.translation.iter().chain([&t.yaw_degrees]).all(|v| v.is_finite()) {
+                return Err(err_at(pl_span, "placement.start", "translation and yaw must be finite".into()));
+            }
+            Placement::Start(t)
+        } else if let Some(p) = pl.path {
+            let span = p.span();
+            let w = p.into_inner();
+            if w.waypoints.is_empty() {
+                return Err(err_at(span, "placement.path.waypoints", "needs at least one waypoint".into()));
+            }
+            if !w.waypoints.iter().flatten().all(|v| v.is_finite()) {
+                return Err(err_at(span, "placement.path.waypoints", "coordinates must be finite".into()));
+            }
+            if !(w.speed.is_finite() && w.speed > 0.0) {
+                return Err(err_at(span, "placement.path.speed", format!("must be positive, not {}", w.speed)));
+            }
+            Placement::Path(w)
+        } else {
+            let g = pl.gap.expect("counted above");
+            let span = g.span();
+            let g = g.into_inner();
+            if !g.metres.is_finite() || g.yaw_degrees.is_some_and(|y| !y.is_finite()) {
+                return Err(err_at(span, "placement.gap.metres", "must be a finite number".into()));
+            }
+            surface_at = Some(locate(text, span.start));
+            Placement::Gap(g)
+        };
+
+        // Scalars.
+        let frames = match raw.frames {
+            Some(f) if *f.get_ref() <= 0 => {
+                return Err(err_at(f.span(), "frames", format!("must be a positive whole number, not {}", f.get_ref())));
+            }
+            Some(f) => Some(*f.get_ref() as usize),
+            None => None,
+        };
+        let fps = match raw.fps {
+            Some(f) if !(f.get_ref().is_finite() && *f.get_ref() > 0.0) => {
+                return Err(err_at(f.span(), "fps", format!("must be positive, not {}", f.get_ref())));
+            }
+            Some(f) => *f.get_ref() as Real,
+            None => 30.0,
+        };
+        let methods = match raw.methods {
+            Some(m) if m.get_ref().is_empty() => {
+                return Err(err_at(
+                    m.span(),
+                    "methods",
+                    format!("empty; valid methods: {}", Method::ALL.map(Method::name).join(", ")),
+                ));
+            }
+            Some(m) => m.into_inner(),
+            None => Method::ALL.to_vec(),
+        };
+        let threshold = match raw.threshold {
+            Some(t) if !(t.get_ref().is_finite() && *t.get_ref() > 0.0) => {
+                return Err(err_at(t.span(), "threshold", format!("must be positive metres, not {}", t.get_ref())));
+            }
+            Some(t) => *t.get_ref() as Real,
+            None => DEFAULT_THRESHOLD,
+        };
+        let recording = match raw.recording {
+            Some(r) if r.get_ref().mesh_every == 0 => {
+                return Err(err_at(r.span(), "recording.mesh_every", "must be at least 1".into()));
+            }
+            Some(r) => r.into_inner(),
+            None => Recording::default(),
+        };
+
+        Ok(Scenario {
+            file: file.to_owned(),
+            character,
+            environment,
+            placement,
+            frames,
+            fps,
+            methods,
+            dedup: raw.dedup.unwrap_or(true),
+            threshold,
+            recording,
+            surface_at,
+        })
+    }
+}
+
+/// Reads, parses and checks a scenario file (see [`Scenario::parse`]).
+pub fn load_scenario(path: &Path) -> Result<Scenario, ScenarioError> {
+    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::new(path, None, None, e.to_string()))?;
+    Scenario::parse(&text, path)
+}
+
+/// `path` if absolute and present; else `base/path`, else `path` from the current directory.
+fn find_asset(base: &Path, path: &Path) -> Option<PathBuf> {
+    if path.is_absolute() {
+        return path.is_file().then(|| path.to_owned());
+    }
+    let in_base = base.join(path);
+    if in_base.is_file() {
+        return Some(in_base);
+    }
+    path.is_file().then(|| path.to_owned())
+}
+
+fn missing(base: &Path, path: &Path) -> String {
+    if path.is_absolute() {
+        format!("file {} does not exist", path.display())
+    } else {
+        let dir = if base.as_os_str().is_empty() { Path::new(".") } else { base };
+        format!(
+            "file {} does not exist (looked in {} and the current directory)",
+            path.display(),
+            dir.display()
+        )
+    }
+}

@@ -1,0 +1,246 @@
+//! Scenario files: every shipped scenario loads and resolves, gap placements
+//! achieve their gap (recomputed here from the south walls' known plane
+//! `z = 0`), and bad files give one-line errors naming the file, the line and
+//! the field.
+
+use std::path::{Path, PathBuf};
+
+use cornertree::character::PoseBuffers;
+use cornertree::pipeline::Method;
+use cornertree::scenario::{Placement, Resolved, ScenarioError, load_scenario, resolve};
+
+fn shipped(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(name)
+}
+
+/// Minimum over every frame and vertex of the world z (the signed distance to
+/// the south wall, whose plane is z = 0 with the room at z > 0), minimum world
+/// y, and frames with some vertex at z < 0.
+fn south_wall_extremes(r: &Resolved) -> (f64, f64, usize) {
+    let mut buffers = PoseBuffers::new(&r.character);
+    let (mut zmin, mut ymin, mut behind) = (f64::INFINITY, f64::INFINITY, 0);
+    for k in 0..r.frames() {
+        buffers.pose(&r.character, r.clip(), r.time_at(k));
+        buffers.skin_all(&r.character, r.skinning);
+        let iso = r.placement_at(k);
+        let mut frame_zmin = f64::INFINITY;
+        for p in &buffers.positions {
+            let w = iso * p;
+            frame_zmin = frame_zmin.min(w.z as f64);
+            ymin = ymin.min(w.y as f64);
+        }
+        zmin = zmin.min(frame_zmin);
+        behind += usize::from(frame_zmin < 0.0);
+    }
+    (zmin, ymin, behind)
+}
+
+fn check_gap(file: &str, expect_frames: Option<usize>) -> (Resolved, f64, usize) {
+    let path = shipped(file);
+    let s = load_scenario(&path).unwrap_or_else(|e| panic!("{e}"));
+    let Placement::Gap(g) = &s.placement else { panic!("{file}: not a gap placement") };
+    assert_eq!(g.surface, "south wall");
+    let r = resolve(&s, path.parent().unwrap()).unwrap_or_else(|e| panic!("{e}"));
+    if let Some(n) = expect_frames {
+        assert_eq!(r.frames(), n, "{file}");
+    }
+    assert!(r.frames() > 1, "{file}: {} frames", r.frames());
+    let (zmin, ymin, behind) = south_wall_extremes(&r);
+    let report = r.gap.as_ref().expect("gap report");
+    eprintln!(
+        "{file}: {} vertices, {} frames; gap asked {} m, recomputed {zmin:.6} m (report {:.6} m, closest frame {}), \
+         lowest y {ymin:.6}, frames behind the wall {behind}/{}",
+        r.character.mesh.vertex_count(),
+        r.frames(),
+        g.metres,
+        report.achieved,
+        report.closest_frame,
+        r.frames()
+    );
+    assert!((zmin - g.metres as f64).abs() < 1e-4, "{file}: min distance {zmin} for a gap of {}", g.metres);
+    assert!((report.achieved as f64 - zmin).abs() < 1e-4, "{file}: report {} vs {zmin}", report.achieved);
+    assert!(ymin.abs() < 1e-4, "{file}: feet at {ymin}, not on the floor");
+    assert!((report.normal.z - 1.0).abs() < 1e-6 && report.offset.abs() < 1e-6, "{file}: plane {report:?}");
+    (r, zmin, behind)
+}
+
+#[test]
+fn museum_paper_scale_keeps_5_mm() {
+    let (r, _, behind) = check_gap("museum.toml", None);
+    assert_eq!(r.character.mesh.vertex_count(), 44_345);
+    assert_eq!(r.methods, Method::ALL.to_vec());
+    assert_eq!(behind, 0);
+    // Centred along the 20 m wall.
+    let x = r.placement_at(0).translation.vector.x;
+    assert!((5.0..15.0).contains(&x), "x = {x}");
+}
+
+#[test]
+fn living_room_paper_scale_keeps_5_mm() {
+    let (r, _, behind) = check_gap("living_room.toml", None);
+    assert_eq!(r.character.mesh.vertex_count(), 44_345);
+    assert_eq!(behind, 0);
+}
+
+#[test]
+fn cesium_man_keeps_1_cm() {
+    let (_, _, behind) = check_gap("cesium_man.toml", None);
+    assert_eq!(behind, 0);
+}
+
+#[test]
+fn brainstem_keeps_1_cm_over_120_frames() {
+    let (_, _, behind) = check_gap("brainstem.toml", Some(120));
+    assert_eq!(behind, 0);
+}
+
+#[test]
+fn touching_penetrates_most_frames() {
+    let (r, _, behind) = check_gap("touching.toml", None);
+    assert!(behind * 2 > r.frames(), "only {behind} of {} frames penetrate", r.frames());
+    assert_eq!(r.gap.as_ref().unwrap().penetrating_frames, behind);
+}
+
+#[test]
+fn every_shipped_scenario_is_tested() {
+    let mut names: Vec<String> = std::fs::read_dir(shipped(""))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    names.sort();
+    assert_eq!(names, ["brainstem.toml", "cesium_man.toml", "living_room.toml", "museum.toml", "touching.toml"]);
+}
+
+// ---- Bad files. ----
+
+const GOOD: &str = r#"# a small valid scenario
+[character]
+source = "generated:humanoid?vertices=1000"
+clip = "walk"
+
+[environment]
+kind = "living-room"
+
+[placement]
+gap = { surface = "south wall", metres = 0.01 }
+"#;
+
+fn temp_dir() -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cornertree-scenario-test-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Writes `text` as `name` in a temp dir, loads and resolves it, expects an error.
+fn error_of(name: &str, text: &str) -> (PathBuf, String) {
+    let path = temp_dir().join(name);
+    std::fs::write(&path, text).unwrap();
+    let result: Result<_, ScenarioError> = load_scenario(&path).and_then(|s| resolve(&s, path.parent().unwrap()));
+    let e = result.err().unwrap_or_else(|| panic!("{name}: loaded"));
+    let msg = e.to_string();
+    eprintln!("{msg}");
+    assert!(!msg.contains('\n'), "{name}: not one line: {msg:?}");
+    assert!(msg.starts_with(&path.display().to_string()), "{name}: file not named: {msg}");
+    (path, msg)
+}
+
+fn line_prefix(path: &Path, line: usize) -> String {
+    format!("{}:{line}:", path.display())
+}
+
+#[test]
+fn the_good_text_resolves() {
+    let path = temp_dir().join("good.toml");
+    std::fs::write(&path, GOOD).unwrap();
+    let s = load_scenario(&path).unwrap();
+    assert_eq!((s.fps, s.dedup, s.frames), (30.0, true, None));
+    let r = resolve(&s, &temp_dir()).unwrap();
+    assert!((r.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+}
+
+#[test]
+fn syntax_error_names_the_line() {
+    let text = GOOD.replace("clip = \"walk\"", "clip = \"walk");
+    let (path, msg) = error_of("syntax.toml", &text);
+    assert!(msg.starts_with(&line_prefix(&path, 4)), "{msg}");
+}
+
+#[test]
+fn unknown_field_is_named() {
+    let text = GOOD.replace("clip = \"walk\"", "clip = \"walk\"\ncolour = \"red\"");
+    let (path, msg) = error_of("unknown_field.toml", &text);
+    assert!(msg.starts_with(&line_prefix(&path, 5)), "{msg}");
+    assert!(msg.contains("colour"), "{msg}");
+}
+
+#[test]
+fn missing_asset_is_named() {
+    let text = GOOD.replace("generated:humanoid?vertices=1000", "no/such/character.glb");
+    let (path, msg) = error_of("missing_asset.toml", &text);
+    assert!(msg.starts_with(&line_prefix(&path, 3)), "{msg}");
+    assert!(msg.contains("character.source") && msg.contains("no/such/character.glb"), "{msg}");
+
+    let text = GOOD.replace("kind = \"living-room\"", "kind = \"gltf\"\npath = \"rooms/none.glb\"");
+    let (path, msg) = error_of("missing_scene.toml", &text);
+    assert!(msg.starts_with(&line_prefix(&path, 8)), "{msg}");
+    assert!(msg.contains("environment.path") && msg.contains("rooms/none.glb"), "{msg}");
+}
+
+#[test]
+fn negative_frames_and_fps_are_refused() {
+    let (path, msg) = error_of("frames.toml", &format!("frames = -3\n{GOOD}"));
+    assert!(msg.starts_with(&line_prefix(&path, 1)) && msg.contains("frames") && msg.contains("-3"), "{msg}");
+    let (_, msg) = error_of("frames0.toml", &format!("frames = 0\n{GOOD}"));
+    assert!(msg.contains("frames"), "{msg}");
+    let (path, msg) = error_of("fps.toml", &format!("fps = -30\n{GOOD}"));
+    assert!(msg.starts_with(&line_prefix(&path, 1)) && msg.contains("fps"), "{msg}");
+}
+
+#[test]
+fn unknown_method_lists_the_valid_ones() {
+    let (path, msg) = error_of("method.toml", &format!("methods = [\"fastest\"]\n{GOOD}"));
+    assert!(msg.starts_with(&line_prefix(&path, 1)), "{msg}");
+    assert!(msg.contains("fastest"), "{msg}");
+    for m in Method::ALL {
+        assert!(msg.contains(m.name()), "{msg}");
+    }
+}
+
+#[test]
+fn unknown_surface_lists_objects() {
+    let text = GOOD.replace("\"south wall\"", "\"souht wall\"");
+    let (path, msg) = error_of("surface.toml", &text);
+    assert!(msg.starts_with(&line_prefix(&path, 10)), "{msg}");
+    assert!(msg.contains("placement.gap.surface") && msg.contains("souht wall"), "{msg}");
+    assert!(msg.contains("\"floor\"") || msg.contains("\"south wall\""), "{msg}");
+}
+
+#[test]
+fn placement_needs_exactly_one_kind() {
+    let text = GOOD.replace(
+        "gap = { surface = \"south wall\", metres = 0.01 }",
+        "gap = { surface = \"south wall\", metres = 0.01 }\nstart = { translation = [1, 0, 1] }",
+    );
+    let (_, msg) = error_of("two_placements.toml", &text);
+    assert!(msg.contains("placement") && msg.contains("exactly one"), "{msg}");
+}
+
+#[test]
+fn path_walks_facing_the_direction() {
+    let text = GOOD.replace(
+        "gap = { surface = \"south wall\", metres = 0.01 }",
+        "path = { waypoints = [[1, 0, 1], [4, 0, 1], [4, 0, 3]], speed = 1.5 }",
+    );
+    let path = temp_dir().join("path.toml");
+    std::fs::write(&path, text).unwrap();
+    let r = resolve(&load_scenario(&path).unwrap(), &temp_dir()).unwrap();
+    // Frame 30 at 30 fps: 1.5 m along the first leg, facing +X.
+    let iso = r.placement_at(30);
+    assert!((iso.translation.vector - nalgebra::Vector3::new(2.5, 0.0, 1.0)).norm() < 1e-5);
+    let forward = iso.rotation * nalgebra::Vector3::z();
+    assert!((forward - nalgebra::Vector3::x()).norm() < 1e-5, "{forward}");
+    // Frame 90: 4.5 m = 3 m + 1.5 m up the second leg, facing +Z; long after: the end.
+    assert!((r.placement_at(90).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 2.5)).norm() < 1e-5);
+    assert!((r.placement_at(1000).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 3.0)).norm() < 1e-5);
+}
