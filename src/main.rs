@@ -2,6 +2,8 @@
 
 use std::process::ExitCode;
 
+mod run_cmd;
+
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cornertree::character::{Character, SkinningModel, generate_humanoid};
@@ -30,6 +32,11 @@ enum Command {
     /// counted on trees built over a real triangle) and, for the museum and the
     /// living room, every method's environment hierarchy: nodes and bytes.
     Tables(TablesArgs),
+    /// Play a scenario through each method: per frame, pose and skin the
+    /// character, refit its spheres on demand while traversing the
+    /// environment's tree, run the narrow phase, and count tests, operations,
+    /// refits and time; print the summary table (maximum and mean per frame).
+    Run(run_cmd::RunArgs),
 }
 
 #[derive(clap::Args)]
@@ -260,6 +267,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Inspect(args) => inspect(args),
         Command::Tables(args) => tables(args),
+        Command::Run(args) => run_cmd::run(args).and_then(|out| emit(&out)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
