@@ -46,14 +46,14 @@ use std::path::Path;
 
 use gltf::animation::{Interpolation as GltfInterpolation, Property};
 use gltf::buffer::Data;
-use gltf::mesh::{Mode, Semantic};
+use gltf::mesh::Semantic;
 use gltf::scene::Transform;
 use nalgebra::{Matrix3, Matrix4, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use super::gltf_accessor;
 use super::gltf_static::{
-    LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive, assemble, load_buffers,
-    local_matrix, one_line, parse_root, scene_roots, validate,
+    LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble, load_buffers, local_matrix,
+    one_line, parse_root, read_triangle_primitive, scene_roots, validate,
 };
 use crate::character::skinning::SkinError;
 use crate::character::{
@@ -516,24 +516,12 @@ impl CharacterLoader<'_> {
         };
         for primitive in mesh.primitives() {
             let p = primitive.index();
-            let mode = primitive.mode();
-            if !matches!(
-                mode,
-                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-            ) {
-                self.report.skipped.push(SkippedPrimitive {
-                    node,
-                    mesh: mesh_ref.clone(),
-                    primitive: p,
-                    mode: match mode {
-                        Mode::Points => "POINTS",
-                        Mode::Lines => "LINES",
-                        Mode::LineLoop => "LINE_LOOP",
-                        _ => "LINE_STRIP",
-                    },
-                });
+            let base = positions.len();
+            let Some(TrianglePrimitive { mode, positions: stored, indices }) =
+                read_triangle_primitive(self.path, self.buffers, node, &mesh_ref, &primitive, base, &mut self.report)?
+            else {
                 continue;
-            }
+            };
             let accessor_error = |accessor: usize, reason: String| LoadError::Accessor {
                 path: self.path.to_owned(),
                 mesh: mesh_ref.clone(),
@@ -547,37 +535,6 @@ impl CharacterLoader<'_> {
                 primitive: p,
                 reason: one_line(&reason),
             };
-            let position_accessor =
-                primitive
-                    .get(&Semantic::Positions)
-                    .ok_or_else(|| LoadError::MissingPosition {
-                        path: self.path.to_owned(),
-                        mesh: mesh_ref.clone(),
-                        primitive: p,
-                    })?;
-            let stored = gltf_accessor::read_positions(&position_accessor, self.buffers)
-                .map_err(|reason| accessor_error(position_accessor.index(), reason))?;
-            if let Some((vertex, &[x, y, z])) = stored
-                .iter()
-                .enumerate()
-                .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
-            {
-                return Err(LoadError::NonFinitePosition {
-                    path: self.path.to_owned(),
-                    mesh: mesh_ref.clone(),
-                    primitive: p,
-                    vertex,
-                    x,
-                    y,
-                    z,
-                });
-            }
-            let base = positions.len();
-            if base + stored.len() > u32::MAX as usize {
-                return Err(LoadError::TooLarge {
-                    path: self.path.to_owned(),
-                });
-            }
 
             // Influence sets 0, 1, ... while present.
             let mut sets: Vec<InfluenceSet> = Vec::new();
@@ -623,35 +580,6 @@ impl CharacterLoader<'_> {
                 sets.push((jv, wv));
             }
 
-            let indices = match primitive.indices() {
-                Some(accessor) => {
-                    let indices = gltf_accessor::read_indices(&accessor, self.buffers)
-                        .map_err(|reason| accessor_error(accessor.index(), reason))?;
-                    if let Some((entry, &index)) = indices
-                        .iter()
-                        .enumerate()
-                        .find(|(_, i)| **i as usize >= stored.len())
-                    {
-                        return Err(LoadError::IndexOutOfRange {
-                            path: self.path.to_owned(),
-                            mesh: mesh_ref.clone(),
-                            primitive: p,
-                            accessor: accessor.index(),
-                            entry,
-                            index,
-                            vertex_count: stored.len(),
-                        });
-                    }
-                    indices
-                }
-                None => (0..stored.len() as u32).collect(),
-            };
-            let targets = primitive.morph_targets().len();
-            if targets > 0 {
-                self.report.notes.push(format!(
-                    "node {node}, mesh {mesh_ref} primitive {p}: {targets} morph target(s) ignored, positions as stored"
-                ));
-            }
 
             // Merge the sets: the four largest weights of each vertex.
             let remap = |j: u16| -> u16 {

@@ -560,6 +560,91 @@ pub(crate) fn scene_roots(document: &gltf::Document) -> (Option<usize>, Vec<gltf
     (scene.map(|s| s.index()), roots)
 }
 
+/// What both loaders read from a triangle primitive: its mode, its stored
+/// positions (checked finite) and its indices (checked in range; `0..n` when
+/// absent).
+pub(crate) struct TrianglePrimitive {
+    pub mode: Mode,
+    pub positions: Vec<[f32; 3]>,
+    pub indices: Vec<u32>,
+}
+
+/// Reads a primitive of mesh `mesh_ref` placed by `node`. `Ok(None)` for a
+/// primitive that is not made of triangles (listed in `report.skipped`);
+/// morph targets are noted. `vertices_before` is how many vertices the loader
+/// holds already (the total must fit in `u32`).
+pub(crate) fn read_triangle_primitive(
+    path: &Path,
+    buffers: &[Data],
+    node: usize,
+    mesh_ref: &MeshRef,
+    primitive: &gltf::Primitive<'_>,
+    vertices_before: usize,
+    report: &mut LoadReport,
+) -> Result<Option<TrianglePrimitive>, LoadError> {
+    let p = primitive.index();
+    let mode = match primitive.mode() {
+        m @ (Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) => m,
+        other => {
+            let mode = match other {
+                Mode::Points => "POINTS",
+                Mode::Lines => "LINES",
+                Mode::LineLoop => "LINE_LOOP",
+                _ => "LINE_STRIP",
+            };
+            report.skipped.push(SkippedPrimitive { node, mesh: mesh_ref.clone(), primitive: p, mode });
+            return Ok(None);
+        }
+    };
+    let accessor_error = |accessor: usize, reason: String| LoadError::Accessor {
+        path: path.to_owned(),
+        mesh: mesh_ref.clone(),
+        primitive: p,
+        accessor,
+        reason: one_line(&reason),
+    };
+    let position_accessor = primitive.get(&Semantic::Positions).ok_or_else(|| LoadError::MissingPosition {
+        path: path.to_owned(),
+        mesh: mesh_ref.clone(),
+        primitive: p,
+    })?;
+    let stored = gltf_accessor::read_positions(&position_accessor, buffers)
+        .map_err(|reason| accessor_error(position_accessor.index(), reason))?;
+    if let Some((vertex, &[x, y, z])) = stored.iter().enumerate().find(|(_, v)| !v.iter().all(|c| c.is_finite())) {
+        return Err(LoadError::NonFinitePosition { path: path.to_owned(), mesh: mesh_ref.clone(), primitive: p, vertex, x, y, z });
+    }
+    if vertices_before + stored.len() > u32::MAX as usize {
+        return Err(LoadError::TooLarge { path: path.to_owned() });
+    }
+    let indices = match primitive.indices() {
+        Some(accessor) => {
+            let indices = gltf_accessor::read_indices(&accessor, buffers)
+                .map_err(|reason| accessor_error(accessor.index(), reason))?;
+            if let Some((entry, &index)) = indices.iter().enumerate().find(|(_, i)| **i as usize >= stored.len()) {
+                return Err(LoadError::IndexOutOfRange {
+                    path: path.to_owned(),
+                    mesh: mesh_ref.clone(),
+                    primitive: p,
+                    accessor: accessor.index(),
+                    entry,
+                    index,
+                    vertex_count: stored.len(),
+                });
+            }
+            indices
+        }
+        // Fits: vertices_before + stored.len() <= u32::MAX was checked above.
+        None => (0..stored.len() as u32).collect(),
+    };
+    let targets = primitive.morph_targets().len();
+    if targets > 0 {
+        report.notes.push(format!(
+            "node {node}, mesh {mesh_ref} primitive {p}: {targets} morph target(s) ignored, positions as stored"
+        ));
+    }
+    Ok(Some(TrianglePrimitive { mode, positions: stored, indices }))
+}
+
 struct Loader<'a> {
     path: &'a Path,
     buffers: &'a [Data],
@@ -640,92 +725,12 @@ impl Loader<'_> {
         };
         for primitive in mesh.primitives() {
             let p = primitive.index();
-            let mode = match primitive.mode() {
-                Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan => primitive.mode(),
-                other => {
-                    let mode = match other {
-                        Mode::Points => "POINTS",
-                        Mode::Lines => "LINES",
-                        Mode::LineLoop => "LINE_LOOP",
-                        _ => "LINE_STRIP",
-                    };
-                    self.report.skipped.push(SkippedPrimitive {
-                        node,
-                        mesh: mesh_ref.clone(),
-                        primitive: p,
-                        mode,
-                    });
-                    continue;
-                }
-            };
-            let accessor_error = |accessor: usize, reason: String| LoadError::Accessor {
-                path: self.path.to_owned(),
-                mesh: mesh_ref.clone(),
-                primitive: p,
-                accessor,
-                reason: one_line(&reason),
-            };
-            let position_accessor =
-                primitive
-                    .get(&Semantic::Positions)
-                    .ok_or_else(|| LoadError::MissingPosition {
-                        path: self.path.to_owned(),
-                        mesh: mesh_ref.clone(),
-                        primitive: p,
-                    })?;
-            let stored = gltf_accessor::read_positions(&position_accessor, self.buffers)
-                .map_err(|reason| accessor_error(position_accessor.index(), reason))?;
-            if let Some((vertex, &[x, y, z])) = stored
-                .iter()
-                .enumerate()
-                .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
-            {
-                return Err(LoadError::NonFinitePosition {
-                    path: self.path.to_owned(),
-                    mesh: mesh_ref.clone(),
-                    primitive: p,
-                    vertex,
-                    x,
-                    y,
-                    z,
-                });
-            }
             let base = self.positions.len();
-            if base + stored.len() > u32::MAX as usize {
-                return Err(LoadError::TooLarge {
-                    path: self.path.to_owned(),
-                });
-            }
-            let indices = match primitive.indices() {
-                Some(accessor) => {
-                    let indices = gltf_accessor::read_indices(&accessor, self.buffers)
-                        .map_err(|reason| accessor_error(accessor.index(), reason))?;
-                    if let Some((entry, &index)) = indices
-                        .iter()
-                        .enumerate()
-                        .find(|(_, i)| **i as usize >= stored.len())
-                    {
-                        return Err(LoadError::IndexOutOfRange {
-                            path: self.path.to_owned(),
-                            mesh: mesh_ref.clone(),
-                            primitive: p,
-                            accessor: accessor.index(),
-                            entry,
-                            index,
-                            vertex_count: stored.len(),
-                        });
-                    }
-                    indices
-                }
-                // Fits: base + stored.len() <= u32::MAX was checked above.
-                None => (0..stored.len() as u32).collect(),
+            let Some(TrianglePrimitive { mode, positions: stored, indices }) =
+                read_triangle_primitive(self.path, self.buffers, node, &mesh_ref, &primitive, base, &mut self.report)?
+            else {
+                continue;
             };
-            let targets = primitive.morph_targets().len();
-            if targets > 0 {
-                self.report.notes.push(format!(
-                    "node {node}, mesh {mesh_ref} primitive {p}: {targets} morph target(s) ignored, positions as stored"
-                ));
-            }
             for (vertex, v) in stored.iter().enumerate() {
                 let w = placement.transform_point(&Point3::new(
                     f64::from(v[0]),
