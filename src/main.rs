@@ -114,7 +114,11 @@ fn parse_ratio(s: &str) -> Result<f32, String> {
 
 fn parse_positive(s: &str) -> Result<f32, String> {
     let r: f32 = s.parse().map_err(|e| format!("{e}"))?;
-    if r.is_finite() && r > 0.0 { Ok(r) } else { Err("must be a positive number".into()) }
+    if r.is_finite() && r > 0.0 {
+        Ok(r)
+    } else {
+        Err("must be a positive number".into())
+    }
 }
 
 fn load(source: &CharacterSource) -> anyhow::Result<Character> {
@@ -129,14 +133,20 @@ fn load(source: &CharacterSource) -> anyhow::Result<Character> {
                 eprintln!("note: {p}: node {node}: mesh left out (not skinned)");
             }
             if !report.skipped_channels.is_empty() {
-                eprintln!("note: {p}: {} animation channels not used (first: {})", report.skipped_channels.len(), report.skipped_channels[0]);
+                eprintln!(
+                    "note: {p}: {} animation channels not used (first: {})",
+                    report.skipped_channels.len(),
+                    report.skipped_channels[0]
+                );
             }
             for n in &report.notes {
                 eprintln!("note: {p}: {n}");
             }
             Ok(c)
         }
-        CharacterSource::Humanoid(p) => Ok(generate_humanoid(p).with_context(|| source.to_string())?),
+        CharacterSource::Humanoid(p) => {
+            Ok(generate_humanoid(p).with_context(|| source.to_string())?)
+        }
     }
 }
 
@@ -160,11 +170,17 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
     let name = args.source.to_string();
     let options = InspectOptions {
         dedup: !args.no_dedup,
-        build: BuildParams { collapse_ratio: args.collapse_ratio },
+        build: BuildParams {
+            collapse_ratio: args.collapse_ratio,
+        },
     };
-    let mesh = if args.animate { load(&args.source)?.mesh } else { static_mesh(&args.source)? };
-    let (report, _tree) =
-        inspect_mesh(&name, &mesh, options).with_context(|| format!("{name}: sphere tree failed validation"))?;
+    let mesh = if args.animate {
+        load(&args.source)?.mesh
+    } else {
+        static_mesh(&args.source)?
+    };
+    let (report, _tree) = inspect_mesh(&name, &mesh, options)
+        .with_context(|| format!("{name}: sphere tree failed validation"))?;
     let mut json = serde_json::to_value(&report)?;
     let mut out = String::new();
     if args.animate {
@@ -180,7 +196,12 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
         };
         let refit = animate(&character, &opts).with_context(|| name.clone())?;
         json["joints"] = character.skeleton.len().into();
-        json["clips"] = character.clips.iter().map(|c| c.name.clone()).collect::<Vec<_>>().into();
+        json["clips"] = character
+            .clips
+            .iter()
+            .map(|c| c.name.clone())
+            .collect::<Vec<_>>()
+            .into();
         json["refit"] = serde_json::to_value(&refit)?;
         if !args.json {
             out = format!("{report}{}", refit_text(&character, &refit));
@@ -228,7 +249,10 @@ fn tables(args: TablesArgs) -> anyhow::Result<()> {
 fn emit(text: &str) -> anyhow::Result<()> {
     use std::io::Write;
     let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+    match stdout
+        .write_all(text.as_bytes())
+        .and_then(|()| stdout.flush())
+    {
         Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
         other => Ok(other?),
     }
@@ -236,11 +260,19 @@ fn emit(text: &str) -> anyhow::Result<()> {
 
 fn refit_text(c: &Character, r: &RefitReport) -> String {
     use std::fmt::Write;
-    let clips: Vec<String> = c.clips.iter().map(|k| format!("{} ({:.2} s)", k.name, k.duration())).collect();
+    let clips: Vec<String> = c
+        .clips
+        .iter()
+        .map(|k| format!("{} ({:.2} s)", k.name, k.duration()))
+        .collect();
     let mut s = String::new();
     let _ = writeln!(s, "  joints                 {:>10}", c.skeleton.len());
     let _ = writeln!(s, "  clips                  {}", clips.join(", "));
-    let _ = writeln!(s, "  refit: clip {:?}, {:?} skinning, {} frames at {} fps, {} nodes", r.clip, r.model, r.frames, r.fps, r.nodes);
+    let _ = writeln!(
+        s,
+        "  refit: clip {:?}, {:?} skinning, {} frames at {} fps, {} nodes",
+        r.clip, r.model, r.frames, r.fps, r.nodes
+    );
     let _ = writeln!(
         s,
         "    containment          {} violations in {} checks (tolerance {:.3e}, worst excess {:.3e})",
@@ -251,14 +283,26 @@ fn refit_text(c: &Character, r: &RefitReport) -> String {
         "    tightness            mean {:.3}, max {:.3} (refit radius / minimal radius, {} sampled frames)",
         r.tightness_mean, r.tightness_max, r.sampled_frames
     );
-    let _ = writeln!(s, "    per frame            skinning {:.3} ms", r.skinning_ms_per_frame);
-    let _ = writeln!(s, "                         full refit {:.3} ms", r.full_refit_ms_per_frame);
+    let _ = writeln!(
+        s,
+        "    per frame            skinning {:.3} ms",
+        r.skinning_ms_per_frame
+    );
+    let _ = writeln!(
+        s,
+        "                         full refit {:.3} ms",
+        r.full_refit_ms_per_frame
+    );
     let _ = writeln!(
         s,
         "                         on-demand refit + traversal vs a floor {:.3} ms ({:.0} nodes refit)",
         r.on_demand_ms_per_frame, r.on_demand_refits_mean
     );
-    let _ = writeln!(s, "                         rebuild from scratch {:.3} ms", r.rebuild_ms_per_frame);
+    let _ = writeln!(
+        s,
+        "                         rebuild from scratch {:.3} ms",
+        r.rebuild_ms_per_frame
+    );
     s
 }
 

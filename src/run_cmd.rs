@@ -31,13 +31,21 @@ pub struct RunArgs {
 
 pub fn run(args: RunArgs) -> anyhow::Result<String> {
     let scenario = load_scenario(&args.scenario)?;
-    let base_dir = args.scenario.parent().map(PathBuf::from).unwrap_or_default();
+    let base_dir = args
+        .scenario
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default();
     let mut resolved = resolve(&scenario, &base_dir)?;
     if !args.methods.is_empty() {
         resolved.methods = args.methods.clone();
     }
     let frames = args.frames.map_or(resolved.frames(), |f| f as usize);
-    let name = args.scenario.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let name = args
+        .scenario
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let options = PipelineOptions {
         skinning: resolved.skinning,
         dedup: resolved.dedup,
@@ -46,7 +54,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
     };
     let character = &resolved.character;
     let env = &resolved.environment.mesh;
-    let mut pipes: Vec<Pipeline> = resolved.methods.iter().map(|&m| Pipeline::new(character, env, m, options)).collect();
+    let mut pipes: Vec<Pipeline> = resolved
+        .methods
+        .iter()
+        .map(|&m| Pipeline::new(character, env, m, options))
+        .collect();
     let mut runs: Vec<MethodRun> = pipes
         .iter()
         .map(|p| MethodRun {
@@ -62,7 +74,14 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
     let clip = resolved.clip();
     for k in 0..frames {
         let placement = resolved.placement_at(k).to_homogeneous();
-        let (base, skin_ms) = pose_frame(&mut buffers, character, clip, resolved.time_at(k), &placement, resolved.skinning);
+        let (base, skin_ms) = pose_frame(
+            &mut buffers,
+            character,
+            clip,
+            resolved.time_at(k),
+            &placement,
+            resolved.skinning,
+        );
         for (p, r) in pipes.iter_mut().zip(&mut runs) {
             let mut c = p.detect(&buffers, &base, &character.mesh, env);
             c.time.skinning_ms = skin_ms;
@@ -81,7 +100,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
             [one] => serde_json::to_string(one)?,
             _ => serde_json::to_string(&serde_json::json!({ "scenario": name, "runs": runs }))?,
         };
-        std::fs::write(path, text).with_context(|| format!("{}: cannot write the report", path.display()))?;
+        std::fs::write(path, text)
+            .with_context(|| format!("{}: cannot write the report", path.display()))?;
     }
     let mut out = format!(
         "{name}: {} ({} vertices) in {} ({} triangles), {frames} frames at {} fps, {} skinning{}\n",
@@ -94,7 +114,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
             cornertree::character::SkinningModel::Linear => "linear blend",
             cornertree::character::SkinningModel::Paper => "paper-model",
         },
-        if resolved.dedup { ", edge de-duplication on" } else { "" },
+        if resolved.dedup {
+            ", edge de-duplication on"
+        } else {
+            ""
+        },
     );
     if let Some(g) = &resolved.gap {
         out += &format!(

@@ -15,7 +15,11 @@ use cornertree::sphere_tree::{BuildParams, Node, SphereTree, Workspace, build_tr
 use rand::{Rng, SeedableRng, rngs::SmallRng};
 
 fn big() -> Triangle {
-    Triangle::new(Point::new(-3.0, 0.0, -2.0), Point::new(4.0, 0.2, -1.5), Point::new(0.5, 0.1, 4.0))
+    Triangle::new(
+        Point::new(-3.0, 0.0, -2.0),
+        Point::new(4.0, 0.2, -1.5),
+        Point::new(0.5, 0.1, 4.0),
+    )
 }
 
 /// Whether a lone sphere hits the division with plane-sphere leaves.
@@ -23,7 +27,9 @@ fn plane_sphere_hit(d: &Division, s: Sphere, t: &Triangle, ws: &mut Workspace) -
     let mut one = SphereTree::from_nodes(vec![Node::leaf(s, 0)]);
     let mut tree = d.tree.clone();
     let mut hit = false;
-    traverse(&mut one, &mut tree, ws, |_| hit |= sphere_meets_plane(&s, t));
+    traverse(&mut one, &mut tree, ws, |_| {
+        hit |= sphere_meets_plane(&s, t)
+    });
     hit
 }
 
@@ -32,13 +38,20 @@ fn corner_tree_with_plane_sphere_has_no_false_negatives() {
     let t = big();
     let mut rng = SmallRng::seed_from_u64(42);
     let mut ws = Workspace::new();
-    for (kind, name) in [(DivisionKind::Corner, "corner-tree"), (DivisionKind::Full, "quaternary")] {
+    for (kind, name) in [
+        (DivisionKind::Corner, "corner-tree"),
+        (DivisionKind::Full, "quaternary"),
+    ] {
         let d = Division::build(&t, TriangleId(0), kind, 0.4, 10);
         d.validate().unwrap();
         let (mut true_hits, mut false_pos, mut misses_checked) = (0u32, 0u32, 0u32);
         for _ in 0..20_000 {
             // Centres in a slab around the triangle, reaching past its edges.
-            let c = Point::new(rng.random_range(-4.0..5.0), rng.random_range(-0.3..0.5), rng.random_range(-3.0..5.0));
+            let c = Point::new(
+                rng.random_range(-4.0..5.0),
+                rng.random_range(-0.3..0.5),
+                rng.random_range(-3.0..5.0),
+            );
             let s = Sphere::new(c, rng.random_range(0.005..0.15));
             let truth = sphere_triangle_distance(&s, &t) <= 0.0;
             let hit = plane_sphere_hit(&d, s, &t, &mut ws);
@@ -67,7 +80,11 @@ fn environment(seed: u64) -> TriMesh {
     for _ in 0..4 {
         let base = p.len() as u32;
         for _ in 0..3 {
-            p.push(Point::new(rng.random_range(-1.0..7.0), rng.random_range(-1.0..7.0), rng.random_range(-1.0..7.0)));
+            p.push(Point::new(
+                rng.random_range(-1.0..7.0),
+                rng.random_range(-1.0..7.0),
+                rng.random_range(-1.0..7.0),
+            ));
         }
         t.push([base, base + 1, base + 2]);
     }
@@ -105,7 +122,9 @@ fn environment_tree_per_method_against_brute_force() {
             traverse(&mut avatar_tree, &mut tree, &mut ws, |p| {
                 let ta = avatar.triangle(TriangleId(p.primitive_a));
                 let te = env.triangle(TriangleId(p.primitive_b));
-                let hit = if et.is_division_leaf(p.leaf_b) && method.big_leaf_test() == LeafTest::PlaneSphere {
+                let hit = if et.is_division_leaf(p.leaf_b)
+                    && method.big_leaf_test() == LeafTest::PlaneSphere
+                {
                     let s = avatar_nodes[p.leaf_a.index()].sphere;
                     sphere_meets_plane(&s, &te)
                 } else {
@@ -117,9 +136,11 @@ fn environment_tree_per_method_against_brute_force() {
             });
             match method.big_leaf_test() {
                 LeafTest::TriTri => assert_eq!(reported, exact, "seed {seed} {method}"),
-                LeafTest::PlaneSphere => assert!(reported.is_superset(&exact), "seed {seed} {method}: missed contacts"),
+                LeafTest::PlaneSphere => assert!(
+                    reported.is_superset(&exact),
+                    "seed {seed} {method}: missed contacts"
+                ),
             }
         }
     }
 }
-

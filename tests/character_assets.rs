@@ -8,7 +8,9 @@ use cornertree::io::load_character;
 use cornertree::report::animate::{AnimateOptions, animate};
 
 fn asset(name: &str) -> Character {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(name);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(name);
     load_character(&path).unwrap_or_else(|e| panic!("{e}")).0
 }
 
@@ -25,7 +27,11 @@ fn check_all_clips(c: &Character) {
             };
             let r = animate(c, &opts).unwrap();
             assert!(r.tolerance <= 1e-5 * c.mesh.size() as f64 + 1e-12);
-            assert!(r.frames as f32 >= clip.duration() * 30.0, "{}: every 30 fps frame", c.name);
+            assert!(
+                r.frames as f32 >= clip.duration() * 30.0,
+                "{}: every 30 fps frame",
+                c.name
+            );
             assert!(r.checks > 0);
             assert_eq!(
                 r.violations, 0,

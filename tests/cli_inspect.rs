@@ -8,7 +8,9 @@ fn bin() -> Command {
 }
 
 fn asset(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets")
+        .join(name)
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -18,21 +20,40 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 fn inspect_json(path: &Path) -> serde_json::Value {
-    let out = bin().arg("inspect").arg(path).arg("--json").output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = bin()
+        .arg("inspect")
+        .arg(path)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
 }
 
 /// A failing run: non-zero exit, one line on stderr naming the file, no panic.
 fn assert_clean_failure(out: &Output, file: &str, words: &[&str]) {
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "expected failure, got success: {err}");
+    assert!(
+        !out.status.success(),
+        "expected failure, got success: {err}"
+    );
     assert_eq!(out.status.code(), Some(1), "exit code; stderr: {err}");
     assert!(!err.contains("panicked"), "panic: {err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "one line expected: {err}");
+    assert_eq!(
+        err.trim_end().lines().count(),
+        1,
+        "one line expected: {err}"
+    );
     assert!(err.contains(file), "error does not name {file}: {err}");
     for w in words {
-        assert!(err.to_lowercase().contains(&w.to_lowercase()), "error lacks {w:?}: {err}");
+        assert!(
+            err.to_lowercase().contains(&w.to_lowercase()),
+            "error lacks {w:?}: {err}"
+        );
     }
 }
 
@@ -44,29 +65,49 @@ fn inspect_real_assets() {
         let t = v["triangles"].as_u64().unwrap();
         let kept = v["triangles_after_dedup"].as_u64().unwrap();
         assert!(kept < t && kept * 2 >= t / 2, "{name}: {kept} of {t} kept");
-        let levels: Vec<u64> = v["tree_levels"].as_array().unwrap().iter().map(|x| x.as_u64().unwrap()).collect();
+        let levels: Vec<u64> = v["tree_levels"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_u64().unwrap())
+            .collect();
         assert_eq!(levels[0], 1, "one root");
-        assert_eq!(levels.iter().sum::<u64>(), v["tree_nodes"].as_u64().unwrap());
+        assert_eq!(
+            levels.iter().sum::<u64>(),
+            v["tree_nodes"].as_u64().unwrap()
+        );
         assert!(v["tree_bytes"].as_u64().unwrap() >= 24 * kept);
         assert!(v["vertices"].as_u64().unwrap() > 0);
         assert_eq!(v["valid"], true);
     }
     // Text form works too.
-    let out = bin().arg("inspect").arg(asset("CesiumMan.glb")).output().unwrap();
+    let out = bin()
+        .arg("inspect")
+        .arg(asset("CesiumMan.glb"))
+        .output()
+        .unwrap();
     assert!(out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("nodes per level"));
 }
 
 #[test]
 fn no_dedup_keeps_every_triangle() {
-    let out = bin().arg("inspect").arg(asset("CesiumMan.glb")).args(["--json", "--no-dedup"]).output().unwrap();
+    let out = bin()
+        .arg("inspect")
+        .arg(asset("CesiumMan.glb"))
+        .args(["--json", "--no-dedup"])
+        .output()
+        .unwrap();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["triangles_after_dedup"], v["triangles"]);
 }
 
 #[test]
 fn missing_file() {
-    let out = bin().args(["inspect", "no/such/file.glb"]).output().unwrap();
+    let out = bin()
+        .args(["inspect", "no/such/file.glb"])
+        .output()
+        .unwrap();
     assert_clean_failure(&out, "no/such/file.glb", &["no such file"]);
 }
 
@@ -104,7 +145,11 @@ fn base64_encode(data: &[u8]) -> String {
     const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut s = String::new();
     for chunk in data.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
         let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
         for i in 0..4 {
             if i <= chunk.len() {
@@ -119,7 +164,11 @@ fn base64_encode(data: &[u8]) -> String {
 
 #[test]
 fn a_valid_minimal_file_inspects() {
-    let p = one_primitive_gltf("ok.gltf", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], 4);
+    let p = one_primitive_gltf(
+        "ok.gltf",
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        4,
+    );
     let v = inspect_json(&p);
     assert_eq!(v["triangles"], 1);
     assert_eq!(v["tree_levels"], serde_json::json!([1]));
@@ -128,14 +177,22 @@ fn a_valid_minimal_file_inspects() {
 #[test]
 fn no_triangles() {
     // Mode 1 = LINES.
-    let p = one_primitive_gltf("lines.gltf", [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], 1);
+    let p = one_primitive_gltf(
+        "lines.gltf",
+        [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        1,
+    );
     let out = bin().arg("inspect").arg(&p).output().unwrap();
     assert_clean_failure(&out, "lines.gltf", &["no triangles"]);
 }
 
 #[test]
 fn nan_position() {
-    let p = one_primitive_gltf("nan.gltf", [[0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]], 4);
+    let p = one_primitive_gltf(
+        "nan.gltf",
+        [[0.0, 0.0, 0.0], [f32::NAN, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        4,
+    );
     let out = bin().arg("inspect").arg(&p).output().unwrap();
     assert_clean_failure(&out, "nan.gltf", &["vertex 1"]);
 }
@@ -148,7 +205,11 @@ fn animate_reports_refit_keys() {
         .args(["--animate", "--json", "--fps", "10", "--skinning", "paper"])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["joints"], 19);
     assert_eq!(v["clips"].as_array().unwrap().len(), 1);
@@ -159,20 +220,35 @@ fn animate_reports_refit_keys() {
     assert_eq!(r["violations"], 0);
     assert!(r["frames"].as_u64().unwrap() >= 19, "about 2 s at 10 fps");
     let mean = r["tightness_mean"].as_f64().unwrap();
-    assert!((1.0..3.0).contains(&mean), "refit spheres are at least as large as minimal ones: {mean}");
+    assert!(
+        (1.0..3.0).contains(&mean),
+        "refit spheres are at least as large as minimal ones: {mean}"
+    );
 }
 
 #[test]
 fn unknown_clip_lists_the_clips() {
-    let out = bin().arg("inspect").arg(asset("CesiumMan.glb")).args(["--animate", "--clip", "dance"]).output().unwrap();
-    assert_clean_failure(&out, "CesiumMan.glb", &["no clip named \"dance\"", "animation 0"]);
+    let out = bin()
+        .arg("inspect")
+        .arg(asset("CesiumMan.glb"))
+        .args(["--animate", "--clip", "dance"])
+        .output()
+        .unwrap();
+    assert_clean_failure(
+        &out,
+        "CesiumMan.glb",
+        &["no clip named \"dance\"", "animation 0"],
+    );
 }
 
 #[test]
 fn generated_humanoid_inspects_and_bad_specs_fail() {
     let v = inspect_json(Path::new("generated:humanoid?vertices=3000&seed=1"));
     assert_eq!(v["vertices"], 3000);
-    let out = bin().args(["inspect", "generated:humanoid?legs=3"]).output().unwrap();
+    let out = bin()
+        .args(["inspect", "generated:humanoid?legs=3"])
+        .output()
+        .unwrap();
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("legs") && !err.contains("panicked"), "{err}");

@@ -28,7 +28,10 @@ fn run_json(extra: &[&str], out: &Path) -> serde_json::Value {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let stdout = String::from_utf8_lossy(&o.stdout);
-    assert!(stdout.contains("Sph-Sph tests") && stdout.contains("Operations"), "{stdout}");
+    assert!(
+        stdout.contains("Sph-Sph tests") && stdout.contains("Operations"),
+        "{stdout}"
+    );
     serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap()
 }
 
@@ -42,10 +45,20 @@ fn one_method_report_has_the_documented_keys() {
     let frames = v["frames"].as_array().unwrap();
     assert_eq!(frames.len(), 6);
     for f in frames {
-        for key in ["sphere_sphere", "tri_tri", "plane_sphere", "operations", "refits", "time_ms", "pairs"] {
+        for key in [
+            "sphere_sphere",
+            "tri_tri",
+            "plane_sphere",
+            "operations",
+            "refits",
+            "time_ms",
+            "pairs",
+        ] {
             assert!(f.get(key).is_some(), "frame key {key} missing");
         }
-        let ops = 10 * f["sphere_sphere"].as_u64().unwrap() + 96 * f["tri_tri"].as_u64().unwrap() + 30 * f["plane_sphere"].as_u64().unwrap();
+        let ops = 10 * f["sphere_sphere"].as_u64().unwrap()
+            + 96 * f["tri_tri"].as_u64().unwrap()
+            + 30 * f["plane_sphere"].as_u64().unwrap();
         assert_eq!(f["operations"].as_u64().unwrap(), ops);
         assert!(f["sphere_sphere"].as_u64().unwrap() > 0);
     }
@@ -60,7 +73,13 @@ fn same_scenario_same_counters_and_pairs() {
             .iter()
             .flat_map(|r| r["frames"].as_array().unwrap().clone())
             .map(|mut f| {
-                for k in ["time_ms", "skinning_ms", "refit_ms", "traversal_ms", "narrow_ms"] {
+                for k in [
+                    "time_ms",
+                    "skinning_ms",
+                    "refit_ms",
+                    "traversal_ms",
+                    "narrow_ms",
+                ] {
                     f.as_object_mut().unwrap().remove(k);
                 }
                 f
@@ -69,7 +88,11 @@ fn same_scenario_same_counters_and_pairs() {
     };
     let a = run_json(&[], &scratch("a.json"));
     let b = run_json(&[], &scratch("b.json"));
-    assert_eq!(a["runs"].as_array().unwrap().len(), 4, "all four methods by default");
+    assert_eq!(
+        a["runs"].as_array().unwrap().len(),
+        4,
+        "all four methods by default"
+    );
     assert_eq!(strip(&a), strip(&b));
 }
 
@@ -77,7 +100,11 @@ fn same_scenario_same_counters_and_pairs() {
 fn bad_scenarios_fail_cleanly() {
     let cases: [(&str, &str, &[&str]); 3] = [
         ("syntax.toml", "frames = [\n", &["syntax.toml:"]),
-        ("unknown.toml", "colour = 3\n[character]\nsource = \"generated:humanoid\"\n", &["unknown.toml:", "colour"]),
+        (
+            "unknown.toml",
+            "colour = 3\n[character]\nsource = \"generated:humanoid\"\n",
+            &["unknown.toml:", "colour"],
+        ),
         (
             "method.toml",
             "methods = [\"fastest\"]\n[character]\nsource = \"generated:humanoid\"\n[environment]\nkind = \"museum\"\n[placement]\nstart = { translation = [1.0, 0.0, 1.0] }\n",
@@ -96,7 +123,10 @@ fn bad_scenarios_fail_cleanly() {
             assert!(err.contains(w), "{name}: {err} lacks {w}");
         }
     }
-    let o = bin().args(["run", "no/such/scenario.toml"]).output().unwrap();
+    let o = bin()
+        .args(["run", "no/such/scenario.toml"])
+        .output()
+        .unwrap();
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("no/such/scenario.toml"));
 }

@@ -23,7 +23,11 @@ fn environment(seed: u64) -> TriMesh {
     for _ in 0..5 {
         let base = p.len() as u32;
         for _ in 0..3 {
-            p.push(Point::new(rng.random_range(-1.0..7.0), rng.random_range(-1.0..7.0), rng.random_range(-1.0..7.0)));
+            p.push(Point::new(
+                rng.random_range(-1.0..7.0),
+                rng.random_range(-1.0..7.0),
+                rng.random_range(-1.0..7.0),
+            ));
         }
         t.push([base, base + 1, base + 2]);
     }
@@ -33,7 +37,11 @@ fn environment(seed: u64) -> TriMesh {
 fn brute_force(character: &Character, positions: &[Point], env: &TriMesh) -> BTreeSet<(u32, u32)> {
     let tri = |i: usize| {
         let [a, b, c] = character.mesh.indices()[i];
-        Triangle::new(positions[a as usize], positions[b as usize], positions[c as usize])
+        Triangle::new(
+            positions[a as usize],
+            positions[b as usize],
+            positions[c as usize],
+        )
     };
     let mut out = BTreeSet::new();
     for i in 0..character.mesh.triangle_count() {
@@ -48,7 +56,12 @@ fn brute_force(character: &Character, positions: &[Point], env: &TriMesh) -> BTr
 }
 
 fn options(dedup: bool) -> PipelineOptions {
-    PipelineOptions { skinning: SkinningModel::Linear, dedup, threshold: 1.0, build: BuildParams::default() }
+    PipelineOptions {
+        skinning: SkinningModel::Linear,
+        dedup,
+        threshold: 1.0,
+        build: BuildParams::default(),
+    }
 }
 
 #[test]
@@ -59,14 +72,21 @@ fn every_method_against_brute_force() {
         let env = environment(seed);
         let placement = Matrix4::new_translation(&Vector3::new(3.0, 3.0, 3.0));
         for dedup in [false, true] {
-            let mut pipes: Vec<Pipeline> = Method::ALL.iter().map(|&m| Pipeline::new(&character, &env, m, options(dedup))).collect();
+            let mut pipes: Vec<Pipeline> = Method::ALL
+                .iter()
+                .map(|&m| Pipeline::new(&character, &env, m, options(dedup)))
+                .collect();
             let mut buffers = PoseBuffers::new(&character);
             for frame in 0..3u64 {
                 let local = common::random_pose(seed * 10 + frame, &character.skeleton, 1.0);
                 buffers.local.copy_from_slice(&local);
                 // Pose by hand (random poses are not a clip), then place and skin.
-                character.skeleton.world_matrices(&buffers.local, &mut buffers.world);
-                character.skeleton.skin_matrices(&buffers.world, &mut buffers.skin);
+                character
+                    .skeleton
+                    .world_matrices(&buffers.local, &mut buffers.world);
+                character
+                    .skeleton
+                    .skin_matrices(&buffers.world, &mut buffers.skin);
                 buffers.place(&placement);
                 buffers.skin_all(&character, SkinningModel::Linear);
                 let base = placement * character.skeleton.base();
@@ -78,20 +98,33 @@ fn every_method_against_brute_force() {
                     assert_eq!(c.pairs as usize, got.len());
                     let m = p.method;
                     match (m.big_leaf_test(), dedup) {
-                        (LeafTest::TriTri, false) => assert_eq!(got, exact, "seed {seed} frame {frame} {m}"),
-                        (LeafTest::TriTri, true) => assert!(got.is_subset(&exact), "{m}: dedup only removes"),
-                        (LeafTest::PlaneSphere, false) => assert!(got.is_superset(&exact), "seed {seed} frame {frame} {m}: missed contacts"),
+                        (LeafTest::TriTri, false) => {
+                            assert_eq!(got, exact, "seed {seed} frame {frame} {m}")
+                        }
+                        (LeafTest::TriTri, true) => {
+                            assert!(got.is_subset(&exact), "{m}: dedup only removes")
+                        }
+                        (LeafTest::PlaneSphere, false) => assert!(
+                            got.is_superset(&exact),
+                            "seed {seed} frame {frame} {m}: missed contacts"
+                        ),
                         (LeafTest::PlaneSphere, true) => {}
                     }
                     if m == Method::Original {
                         assert_eq!(c.plane_sphere, 0);
                     }
-                    assert_eq!(c.operations(), 10 * c.sphere_sphere + 96 * c.tri_tri + 30 * c.plane_sphere);
+                    assert_eq!(
+                        c.operations(),
+                        10 * c.sphere_sphere + 96 * c.tri_tri + 30 * c.plane_sphere
+                    );
                 }
             }
         }
     }
-    assert!(contacts > 50, "the scenes must collide ({contacts} contacts)");
+    assert!(
+        contacts > 50,
+        "the scenes must collide ({contacts} contacts)"
+    );
 }
 
 #[test]
@@ -110,7 +143,12 @@ fn same_inputs_same_counters_and_pairs() {
                 character.skeleton.skin_matrices(&b.world, &mut b.skin);
                 b.place(&placement);
                 b.skin_all(&character, SkinningModel::Linear);
-                let mut c = p.detect(&b, &(placement * character.skeleton.base()), &character.mesh, &env);
+                let mut c = p.detect(
+                    &b,
+                    &(placement * character.skeleton.base()),
+                    &character.mesh,
+                    &env,
+                );
                 c.time = Default::default();
                 (c, p.pairs.clone())
             })

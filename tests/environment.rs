@@ -4,8 +4,8 @@ use std::path::PathBuf;
 use std::sync::OnceLock;
 
 use cornertree::environment::{
-    Environment, LIVING_ROOM_VERTICES, MUSEUM_VERTICES, ObjectKind, SceneError, big_triangles, living_room,
-    living_room_scaled, load_scene, museum, museum_scaled,
+    Environment, LIVING_ROOM_VERTICES, MUSEUM_VERTICES, ObjectKind, SceneError, big_triangles,
+    living_room, living_room_scaled, load_scene, museum, museum_scaled,
 };
 use cornertree::geometry::Point;
 
@@ -31,12 +31,28 @@ fn vertex_counts_match_the_paper() {
         println!("{}", m.summary(t));
         println!("{}", l.summary(t));
     }
-    assert!(within_one_percent(m.mesh.vertex_count(), MUSEUM_VERTICES), "{}", m.mesh.vertex_count());
-    assert!(within_one_percent(l.mesh.vertex_count(), LIVING_ROOM_VERTICES), "{}", l.mesh.vertex_count());
+    assert!(
+        within_one_percent(m.mesh.vertex_count(), MUSEUM_VERTICES),
+        "{}",
+        m.mesh.vertex_count()
+    );
+    assert!(
+        within_one_percent(l.mesh.vertex_count(), LIVING_ROOM_VERTICES),
+        "{}",
+        l.mesh.vertex_count()
+    );
     assert_eq!(m.mesh.vertex_count(), 9_482);
     assert_eq!(l.mesh.vertex_count(), 133_139);
-    assert_eq!(m.mesh.bounds(), (Point::origin(), Point::new(20.0, 5.0, 12.0)), "inside the room");
-    assert_eq!(l.mesh.bounds(), (Point::origin(), Point::new(8.0, 2.7, 6.0)), "inside the room");
+    assert_eq!(
+        m.mesh.bounds(),
+        (Point::origin(), Point::new(20.0, 5.0, 12.0)),
+        "inside the room"
+    );
+    assert_eq!(
+        l.mesh.bounds(),
+        (Point::origin(), Point::new(8.0, 2.7, 6.0)),
+        "inside the room"
+    );
 }
 
 #[test]
@@ -45,16 +61,31 @@ fn objects_are_contiguous_and_cover_the_mesh() {
         let (mut v, mut t) = (0, 0);
         for o in &env.objects {
             assert_eq!((o.vertices.start, o.triangles.start), (v, t), "{}", o.name);
-            assert!(o.triangles.end > o.triangles.start, "{} has no triangles", o.name);
+            assert!(
+                o.triangles.end > o.triangles.start,
+                "{} has no triangles",
+                o.name
+            );
             for tri in &env.mesh.indices()[o.triangles.start as usize..o.triangles.end as usize] {
-                assert!(tri.iter().all(|i| o.vertices.contains(i)), "{} uses another object's vertex", o.name);
+                assert!(
+                    tri.iter().all(|i| o.vertices.contains(i)),
+                    "{} uses another object's vertex",
+                    o.name
+                );
             }
             (v, t) = (o.vertices.end, o.triangles.end);
         }
-        assert_eq!((v as usize, t as usize), (env.mesh.vertex_count(), env.mesh.triangle_count()));
+        assert_eq!(
+            (v as usize, t as usize),
+            (env.mesh.vertex_count(), env.mesh.triangle_count())
+        );
         // Every vertex is used.
         let mut used = vec![false; env.mesh.vertex_count()];
-        env.mesh.indices().iter().flatten().for_each(|&i| used[i as usize] = true);
+        env.mesh
+            .indices()
+            .iter()
+            .flatten()
+            .for_each(|&i| used[i as usize] = true);
         assert!(used.iter().all(|&u| u), "{}: unused vertices", env.name);
     }
 }
@@ -66,16 +97,30 @@ fn deterministic_in_the_seed() {
     assert_eq!(again.mesh.indices(), museum0().mesh.indices());
     let other = museum(1);
     assert_eq!(other.mesh.vertex_count(), MUSEUM_VERTICES);
-    assert_eq!(other.mesh.bounds(), (Point::origin(), Point::new(20.0, 5.0, 12.0)), "inside the room");
+    assert_eq!(
+        other.mesh.bounds(),
+        (Point::origin(), Point::new(20.0, 5.0, 12.0)),
+        "inside the room"
+    );
     assert_ne!(other.mesh.positions(), museum0().mesh.positions());
 
     let again = living_room(0);
-    let bits = |e: &Environment| e.mesh.positions().iter().flat_map(|p| p.iter().map(|c| c.to_bits())).collect::<Vec<_>>();
+    let bits = |e: &Environment| {
+        e.mesh
+            .positions()
+            .iter()
+            .flat_map(|p| p.iter().map(|c| c.to_bits()))
+            .collect::<Vec<_>>()
+    };
     assert_eq!(bits(&again), bits(living0()));
     assert_eq!(again.mesh.indices(), living0().mesh.indices());
     let other = living_room(7);
     assert_eq!(other.mesh.vertex_count(), LIVING_ROOM_VERTICES);
-    assert_eq!(other.mesh.bounds(), (Point::origin(), Point::new(8.0, 2.7, 6.0)), "inside the room");
+    assert_eq!(
+        other.mesh.bounds(),
+        (Point::origin(), Point::new(8.0, 2.7, 6.0)),
+        "inside the room"
+    );
     assert_ne!(bits(&other), bits(living0()));
 }
 
@@ -83,12 +128,30 @@ fn deterministic_in_the_seed() {
 fn big_and_small_triangles() {
     for env in [museum0(), living0()] {
         let big = big_triangles(&env.mesh, 2.0);
-        assert!(big.len() >= 20, "{}: {} triangles longer than 2 m", env.name, big.len());
-        let small = env.mesh.iter_triangles().filter(|(_, t)| t.longest_edge() < 0.2).count();
+        assert!(
+            big.len() >= 20,
+            "{}: {} triangles longer than 2 m",
+            env.name,
+            big.len()
+        );
+        let small = env
+            .mesh
+            .iter_triangles()
+            .filter(|(_, t)| t.longest_edge() < 0.2)
+            .count();
         let fraction = small as f64 / env.mesh.triangle_count() as f64;
-        assert!(fraction >= 0.9, "{}: only {:.3} of triangles shorter than 0.2 m", env.name, fraction);
+        assert!(
+            fraction >= 0.9,
+            "{}: only {:.3} of triangles shorter than 0.2 m",
+            env.name,
+            fraction
+        );
         // The big ones include walls and the floor.
-        let kinds: Vec<ObjectKind> = big.iter().filter_map(|&id| env.object_of(id)).map(|o| o.kind).collect();
+        let kinds: Vec<ObjectKind> = big
+            .iter()
+            .filter_map(|&id| env.object_of(id))
+            .map(|o| o.kind)
+            .collect();
         assert!(kinds.contains(&ObjectKind::Wall) && kinds.contains(&ObjectKind::Floor));
     }
 }
@@ -100,7 +163,12 @@ fn no_zero_area_triangles() {
             let l = f64::from(t.longest_edge());
             let a = f64::from(t.area());
             // Not even a sliver: area at least 1e-4 of the squared longest edge.
-            assert!(a > 1e-4 * l * l, "{}: triangle {} has area {a} for longest edge {l}", env.name, id.0);
+            assert!(
+                a > 1e-4 * l * l,
+                "{}: triangle {} has area {a} for longest edge {l}",
+                env.name,
+                id.0
+            );
             let [p, q, r] = env.mesh.indices()[id.index()];
             assert!(p != q && q != r && p != r);
         }
@@ -111,12 +179,20 @@ fn no_zero_area_triangles() {
 fn corridor_along_the_south_wall_is_free() {
     for (env, corridor) in [(museum0(), 2.5f32), (living0(), 1.3)] {
         for o in &env.objects {
-            if matches!(o.kind, ObjectKind::Wall | ObjectKind::Floor | ObjectKind::Ceiling) {
+            if matches!(
+                o.kind,
+                ObjectKind::Wall | ObjectKind::Floor | ObjectKind::Ceiling
+            ) {
                 continue;
             }
             let vs = &env.mesh.positions()[o.vertices.start as usize..o.vertices.end as usize];
             let zmin = vs.iter().map(|p| p.z).fold(f32::INFINITY, f32::min);
-            assert!(zmin > corridor, "{}: {} reaches z = {zmin}", env.name, o.name);
+            assert!(
+                zmin > corridor,
+                "{}: {} reaches z = {zmin}",
+                env.name,
+                o.name
+            );
         }
     }
 }
@@ -137,7 +213,10 @@ fn the_door_swings_rigidly() {
         let range = door.vertices.start as usize..door.vertices.end as usize;
         for i in 0..n {
             if range.contains(&i) {
-                assert!((a[i] - b[i]).norm() > 1e-3 || (a[i].x - 0.06).abs() < 1e-3, "door vertex {i} did not move");
+                assert!(
+                    (a[i] - b[i]).norm() > 1e-3 || (a[i].x - 0.06).abs() < 1e-3,
+                    "door vertex {i} did not move"
+                );
             } else {
                 assert_eq!(a[i], b[i], "static vertex {i} moved");
             }
@@ -147,7 +226,10 @@ fn the_door_swings_rigidly() {
             for j in d.clone().step_by(11) {
                 let before = (a[i] - a[j]).norm();
                 let after = (b[i] - b[j]).norm();
-                assert!((before - after).abs() < 1e-4, "door not rigid: {before} vs {after}");
+                assert!(
+                    (before - after).abs() < 1e-4,
+                    "door not rigid: {before} vs {after}"
+                );
             }
         }
         // It opens into the room.
@@ -157,13 +239,23 @@ fn the_door_swings_rigidly() {
 
 #[test]
 fn scaled_variants_meet_their_targets() {
-    assert_eq!(museum_scaled(3, 20_000).unwrap().mesh.vertex_count(), 20_000);
-    assert_eq!(living_room_scaled(3, 10_000).unwrap().mesh.vertex_count(), 10_000);
+    assert_eq!(
+        museum_scaled(3, 20_000).unwrap().mesh.vertex_count(),
+        20_000
+    );
+    assert_eq!(
+        living_room_scaled(3, 10_000).unwrap().mesh.vertex_count(),
+        10_000
+    );
     assert!(museum_scaled(0, 10).is_err());
     let t = std::time::Instant::now();
     let big = living_room_scaled(5, 500_000).unwrap();
     assert_eq!(big.mesh.vertex_count(), 500_000);
-    println!("500k living room in {:?}: {}", t.elapsed(), big.summary(2.0));
+    println!(
+        "500k living room in {:?}: {}",
+        t.elapsed(),
+        big.summary(2.0)
+    );
 }
 
 // ---------------------------------------------------------------------------
@@ -173,7 +265,8 @@ struct Scratch(PathBuf);
 
 impl Scratch {
     fn new(test: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("cornertree-env-{}-{test}", std::process::id()));
+        let dir =
+            std::env::temp_dir().join(format!("cornertree-env-{}-{test}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         Self(dir)
@@ -190,18 +283,36 @@ fn base64(bytes: &[u8]) -> String {
     const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::new();
     for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
         let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
         for k in 0..4 {
-            out.push(if k <= chunk.len() { ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char } else { '=' });
+            out.push(if k <= chunk.len() {
+                ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char
+            } else {
+                '='
+            });
         }
     }
     out
 }
 
 /// A one-mesh glTF (data URI) with u32 indices, placed by a node translated by `(1, 2, 3)`.
-fn write_gltf(scratch: &Scratch, name: &str, positions: &[[f32; 3]], indices: &[u32], mode: u32) -> PathBuf {
-    let mut buffer: Vec<u8> = positions.iter().flatten().flat_map(|c| c.to_le_bytes()).collect();
+fn write_gltf(
+    scratch: &Scratch,
+    name: &str,
+    positions: &[[f32; 3]],
+    indices: &[u32],
+    mode: u32,
+) -> PathBuf {
+    let mut buffer: Vec<u8> = positions
+        .iter()
+        .flatten()
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
     let pos_bytes = buffer.len();
     buffer.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
     let json = format!(
@@ -224,31 +335,59 @@ fn write_gltf(scratch: &Scratch, name: &str, positions: &[[f32; 3]], indices: &[
     path
 }
 
-const SQUARE_AND_LINE: [[f32; 3]; 6] =
-    [[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.], [2., 0., 0.], [3., 0., 0.]];
+const SQUARE_AND_LINE: [[f32; 3]; 6] = [
+    [0., 0., 0.],
+    [1., 0., 0.],
+    [1., 1., 0.],
+    [0., 1., 0.],
+    [2., 0., 0.],
+    [3., 0., 0.],
+];
 
 #[test]
 fn scene_skips_degenerate_triangles() {
     let scratch = Scratch::new("degenerate");
     // Two good triangles, one collinear (zero area), one repeating an index.
-    let path = write_gltf(&scratch, "room.gltf", &SQUARE_AND_LINE, &[0, 1, 2, 0, 4, 5, 0, 2, 3, 2, 2, 3], 4);
+    let path = write_gltf(
+        &scratch,
+        "room.gltf",
+        &SQUARE_AND_LINE,
+        &[0, 1, 2, 0, 4, 5, 0, 2, 3, 2, 2, 3],
+        4,
+    );
     let (env, report) = load_scene(&path).expect("loads");
     assert_eq!(env.mesh.triangle_count(), 2);
     assert_eq!(report.degenerate_removed, 2);
     assert_eq!(report.first_degenerate, vec![1, 3]);
     assert_eq!(env.objects.len(), 1);
     assert_eq!(env.objects[0].triangles, 0..2);
-    assert_eq!(env.mesh.positions()[1], Point::new(2.0, 2.0, 3.0), "node transform applied");
+    assert_eq!(
+        env.mesh.positions()[1],
+        Point::new(2.0, 2.0, 3.0),
+        "node transform applied"
+    );
 }
 
 #[test]
 fn scene_of_only_degenerate_triangles_is_an_error() {
     let scratch = Scratch::new("only-degenerate");
-    let path = write_gltf(&scratch, "flat.gltf", &SQUARE_AND_LINE, &[0, 4, 5, 1, 1, 2], 4);
+    let path = write_gltf(
+        &scratch,
+        "flat.gltf",
+        &SQUARE_AND_LINE,
+        &[0, 4, 5, 1, 1, 2],
+        4,
+    );
     let error = load_scene(&path).expect_err("nothing usable");
     let message = error.to_string();
-    assert!(matches!(error, SceneError::OnlyDegenerate { removed: 2, .. }), "{message}");
-    assert!(message.contains("flat.gltf") && !message.contains('\n'), "{message}");
+    assert!(
+        matches!(error, SceneError::OnlyDegenerate { removed: 2, .. }),
+        "{message}"
+    );
+    assert!(
+        message.contains("flat.gltf") && !message.contains('\n'),
+        "{message}"
+    );
 }
 
 #[test]
@@ -259,5 +398,10 @@ fn scene_without_triangles_is_an_error() {
     let error = load_scene(&path).expect_err("no triangles");
     let message = error.to_string();
     assert!(matches!(error, SceneError::Load(_)), "{message}");
-    assert!(message.contains("lines.gltf") && message.contains("no triangles") && !message.contains('\n'), "{message}");
+    assert!(
+        message.contains("lines.gltf")
+            && message.contains("no triangles")
+            && !message.contains('\n'),
+        "{message}"
+    );
 }

@@ -4,7 +4,9 @@
 use std::collections::HashMap;
 
 use cornertree::character::humanoid::{BodyPart, HumanoidError, generate_humanoid_parts};
-use cornertree::character::{Character, HumanoidParams, PoseBuffers, SkinningModel, generate_humanoid};
+use cornertree::character::{
+    Character, HumanoidParams, PoseBuffers, SkinningModel, generate_humanoid,
+};
 use cornertree::mesh::dedup_edges;
 use cornertree::sphere_tree::BuildParams;
 use cornertree::sphere_tree::character::CharacterTree;
@@ -12,9 +14,28 @@ use cornertree::sphere_tree::containment::VertexSets;
 use cornertree::sphere_tree::refit::{RefitState, Refitter};
 
 const JOINT_NAMES: [&str; 22] = [
-    "pelvis", "spine_01", "spine_02", "chest", "neck", "head", "clavicle_l", "clavicle_r", "upper_arm_l",
-    "upper_arm_r", "forearm_l", "forearm_r", "hand_l", "hand_r", "thigh_l", "thigh_r", "shin_l", "shin_r",
-    "foot_l", "foot_r", "toe_l", "toe_r",
+    "pelvis",
+    "spine_01",
+    "spine_02",
+    "chest",
+    "neck",
+    "head",
+    "clavicle_l",
+    "clavicle_r",
+    "upper_arm_l",
+    "upper_arm_r",
+    "forearm_l",
+    "forearm_r",
+    "hand_l",
+    "hand_r",
+    "thigh_l",
+    "thigh_r",
+    "shin_l",
+    "shin_r",
+    "foot_l",
+    "foot_r",
+    "toe_l",
+    "toe_r",
 ];
 
 fn humanoid(vertices: usize) -> (Character, Vec<BodyPart>) {
@@ -34,9 +55,16 @@ fn min_angle(p: [nalgebra::Point3<f32>; 3]) -> f32 {
 #[test]
 fn vertex_count_within_one_percent() {
     for target in [3_273, 10_000, 44_345, 100_000] {
-        let c = generate_humanoid(&HumanoidParams { vertices: target, seed: 0 }).unwrap();
+        let c = generate_humanoid(&HumanoidParams {
+            vertices: target,
+            seed: 0,
+        })
+        .unwrap();
         let got = c.mesh.vertex_count();
-        assert!(got.abs_diff(target) * 100 <= target, "target {target}: got {got}");
+        assert!(
+            got.abs_diff(target) * 100 <= target,
+            "target {target}: got {got}"
+        );
     }
     assert_eq!(HumanoidParams::default().vertices, 44_345);
 }
@@ -44,11 +72,21 @@ fn vertex_count_within_one_percent() {
 #[test]
 fn vertex_count_across_the_range() {
     for target in [500, 1_000, 3_000, 20_000, 200_000] {
-        let c = generate_humanoid(&HumanoidParams { vertices: target, seed: 0 }).unwrap();
+        let c = generate_humanoid(&HumanoidParams {
+            vertices: target,
+            seed: 0,
+        })
+        .unwrap();
         let got = c.mesh.vertex_count();
-        println!("target {target}: {got} vertices, {} triangles", c.mesh.triangle_count());
+        println!(
+            "target {target}: {got} vertices, {} triangles",
+            c.mesh.triangle_count()
+        );
         if target >= 1_000 {
-            assert!(got.abs_diff(target) * 100 <= target, "target {target}: got {got}");
+            assert!(
+                got.abs_diff(target) * 100 <= target,
+                "target {target}: got {got}"
+            );
         }
     }
 }
@@ -56,7 +94,11 @@ fn vertex_count_across_the_range() {
 #[test]
 fn absurd_vertex_counts_are_rejected() {
     for n in [0, 10, 100, 3_000_000] {
-        let e = generate_humanoid(&HumanoidParams { vertices: n, seed: 0 }).unwrap_err();
+        let e = generate_humanoid(&HumanoidParams {
+            vertices: n,
+            seed: 0,
+        })
+        .unwrap_err();
         assert!(matches!(e, HumanoidError::VertexCount { requested } if requested == n));
         assert!(e.to_string().contains("supported"), "{e}");
     }
@@ -75,20 +117,32 @@ fn every_part_is_closed_and_well_shaped() {
             for t in &idx[part.triangles.clone()] {
                 for k in 0..3 {
                     let (a, b) = (t[k], t[(k + 1) % 3]);
-                    assert!(part.vertices.contains(&(a as usize)), "{}: vertex {a} outside the part", part.name);
+                    assert!(
+                        part.vertices.contains(&(a as usize)),
+                        "{}: vertex {a} outside the part",
+                        part.name
+                    );
                     *uses.entry((a.min(b), a.max(b))).or_default() += 1;
                 }
             }
             let bad = uses.values().filter(|&&n| n != 2).count();
-            assert_eq!(bad, 0, "{} ({target}): {bad} edges not used exactly twice", part.name);
+            assert_eq!(
+                bad, 0,
+                "{} ({target}): {bad} edges not used exactly twice",
+                part.name
+            );
             // A closed genus-0 surface: V - E + F = 2.
-            let euler = part.vertices.len() as i64 - uses.len() as i64 + part.triangles.len() as i64;
+            let euler =
+                part.vertices.len() as i64 - uses.len() as i64 + part.triangles.len() as i64;
             assert_eq!(euler, 2, "{}", part.name);
         }
         let mut worst = f32::INFINITY;
         for t in idx {
             let p = t.map(|v| c.mesh.positions()[v as usize]);
-            assert!((p[1] - p[0]).cross(&(p[2] - p[0])).norm() > 0.0, "zero-area triangle {t:?}");
+            assert!(
+                (p[1] - p[0]).cross(&(p[2] - p[0])).norm() > 0.0,
+                "zero-area triangle {t:?}"
+            );
             worst = worst.min(min_angle(p));
         }
         println!("{target}: smallest angle {worst:.1}°");
@@ -129,7 +183,10 @@ fn weights_are_normalised_and_smooth() {
             }
         }
     }
-    println!("largest weight step along an edge: {worst} ({})", c.skeleton.joints()[at].name);
+    println!(
+        "largest weight step along an edge: {worst} ({})",
+        c.skeleton.joints()[at].name
+    );
     // At most the smoothstep slope (1.5 / zone width) times the ring spacing.
     assert!(worst < 0.4, "weight jumps by {worst} along an edge");
 }
@@ -149,12 +206,20 @@ fn skeleton_has_named_joints_parents_first() {
     let mut world = vec![nalgebra::Matrix4::identity(); s.len()];
     s.world_matrices(s.rest_pose_ref(), &mut world);
     for (j, w) in s.joints().iter().zip(&world) {
-        assert!((j.inverse_bind * w - nalgebra::Matrix4::identity()).norm() < 1e-5, "{}", j.name);
+        assert!(
+            (j.inverse_bind * w - nalgebra::Matrix4::identity()).norm() < 1e-5,
+            "{}",
+            j.name
+        );
     }
     // About 1.75 m tall, feet on the ground, facing +Z (toes forward).
     let (min, max) = c.mesh.bounds();
     println!("height {:.3} m, {} joints", max.y - min.y, s.len());
-    assert!((1.70..1.80).contains(&(max.y - min.y)), "height {}", max.y - min.y);
+    assert!(
+        (1.70..1.80).contains(&(max.y - min.y)),
+        "height {}",
+        max.y - min.y
+    );
     assert!(min.y.abs() < 0.03, "lowest point {}", min.y);
     let toe = world[s.find("toe_l").unwrap().index()].column(3).z;
     assert!(toe > 0.05);
@@ -162,34 +227,63 @@ fn skeleton_has_named_joints_parents_first() {
 
 #[test]
 fn clips_present_and_deterministic() {
-    let a = generate_humanoid(&HumanoidParams { vertices: 5_000, seed: 7 }).unwrap();
-    let b = generate_humanoid(&HumanoidParams { vertices: 5_000, seed: 7 }).unwrap();
+    let a = generate_humanoid(&HumanoidParams {
+        vertices: 5_000,
+        seed: 7,
+    })
+    .unwrap();
+    let b = generate_humanoid(&HumanoidParams {
+        vertices: 5_000,
+        seed: 7,
+    })
+    .unwrap();
     for name in ["walk", "reach", "turn"] {
         let clip = a.clip(Some(name)).unwrap();
         assert!(clip.duration() > 0.0, "{name}");
-        println!("{name}: {:.3} s, {} channels", clip.duration(), clip.channels.len());
+        println!(
+            "{name}: {:.3} s, {} channels",
+            clip.duration(),
+            clip.channels.len()
+        );
     }
     let walk = a.clip(Some("walk")).unwrap().duration();
     assert!((1.0..=1.2).contains(&walk), "walk cycle {walk} s");
-    let same_bits = a.mesh.positions().iter().zip(b.mesh.positions()).all(|(p, q)| p.coords.map(f32::to_bits) == q.coords.map(f32::to_bits));
+    let same_bits = a
+        .mesh
+        .positions()
+        .iter()
+        .zip(b.mesh.positions())
+        .all(|(p, q)| p.coords.map(f32::to_bits) == q.coords.map(f32::to_bits));
     assert!(same_bits);
     assert_eq!(a.mesh.indices(), b.mesh.indices());
     assert_eq!(a.influences, b.influences);
     assert_eq!(a.clips, b.clips);
     // Another seed varies the clips, not the mesh.
-    let c = generate_humanoid(&HumanoidParams { vertices: 5_000, seed: 8 }).unwrap();
+    let c = generate_humanoid(&HumanoidParams {
+        vertices: 5_000,
+        seed: 8,
+    })
+    .unwrap();
     assert_eq!(a.mesh.positions(), c.mesh.positions());
     assert_ne!(a.clips, c.clips);
 }
 
 #[test]
 fn clips_move_the_character_plausibly() {
-    let c = generate_humanoid(&HumanoidParams { vertices: 3_273, seed: 0 }).unwrap();
+    let c = generate_humanoid(&HumanoidParams {
+        vertices: 3_273,
+        seed: 0,
+    })
+    .unwrap();
     for clip in &c.clips {
         println!("seed 0 {}: {:.3} s", clip.name, clip.duration());
     }
     let mut b = PoseBuffers::new(&c);
-    let joint_pos = |b: &PoseBuffers, name: &str| b.world[c.skeleton.find(name).unwrap().index()].column(3).xyz();
+    let joint_pos = |b: &PoseBuffers, name: &str| {
+        b.world[c.skeleton.find(name).unwrap().index()]
+            .column(3)
+            .xyz()
+    };
     // Walk: moves forward; the feet alternate.
     let walk = c.clip(Some("walk")).unwrap();
     b.pose(&c, Some(walk), walk.end());
@@ -200,7 +294,11 @@ fn clips_move_the_character_plausibly() {
     // Reach: the right hand ends up well in front of the chest.
     let reach = c.clip(Some("reach")).unwrap();
     b.pose(&c, Some(reach), reach.duration() * 0.5);
-    assert!(joint_pos(&b, "hand_r").z > 0.35, "hand at {}", joint_pos(&b, "hand_r"));
+    assert!(
+        joint_pos(&b, "hand_r").z > 0.35,
+        "hand at {}",
+        joint_pos(&b, "hand_r")
+    );
     b.pose(&c, Some(reach), reach.end());
     assert!(joint_pos(&b, "hand_r").z.abs() < 1e-3);
     // Turn: the pelvis faces about +X at the end (turned 90° left).
@@ -226,15 +324,26 @@ fn containment(c: &Character, fps: f32, only_middle: bool) -> (u64, u64) {
             let times: Vec<f32> = if only_middle {
                 vec![clip.start() + 0.5 * clip.duration()]
             } else {
-                (0..=frames).map(|i| (clip.start() + i as f32 / fps).min(clip.end())).collect()
+                (0..=frames)
+                    .map(|i| (clip.start() + i as f32 / fps).min(clip.end()))
+                    .collect()
             };
             for t in times {
                 b.pose(c, Some(clip), t);
                 b.skin_all(c, model);
                 state.begin_frame(&c.skeleton, &b.skin);
-                Refitter { tree: &ct, skin: &b.skin, state: &mut state }.refit_all(c.skeleton.base());
+                Refitter {
+                    tree: &ct,
+                    skin: &b.skin,
+                    state: &mut state,
+                }
+                .refit_all(c.skeleton.base());
                 let r = sets.check(&state.spheres, &b.positions, tol);
-                assert_eq!(r.violations, 0, "{model:?} {} t={t}: worst excess {}", clip.name, r.worst_excess);
+                assert_eq!(
+                    r.violations, 0,
+                    "{model:?} {} t={t}: worst excess {}",
+                    clip.name, r.worst_excess
+                );
                 violations += r.violations;
                 checks += r.checks;
             }
@@ -245,7 +354,11 @@ fn containment(c: &Character, fps: f32, only_middle: bool) -> (u64, u64) {
 
 #[test]
 fn refit_contains_the_animated_humanoid() {
-    let c = generate_humanoid(&HumanoidParams { vertices: 5_000, seed: 3 }).unwrap();
+    let c = generate_humanoid(&HumanoidParams {
+        vertices: 5_000,
+        seed: 3,
+    })
+    .unwrap();
     let (violations, checks) = containment(&c, 30.0, false);
     println!("5,000 vertices, every frame at 30 fps: {checks} checks");
     assert_eq!(violations, 0);

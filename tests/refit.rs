@@ -21,19 +21,48 @@ fn posed(c: &Character, local: &[cornertree::character::Trs], model: SkinningMod
 }
 
 /// Full refit of `c` in pose `local`: returns violations, checks, worst excess.
-fn full_refit_violations(c: &Character, local: &[cornertree::character::Trs], model: SkinningModel) -> (u64, u64, f64) {
-    let ct = CharacterTree::build(c, &EdgeDedup::keep_all(&c.mesh), model, BuildParams::default());
+fn full_refit_violations(
+    c: &Character,
+    local: &[cornertree::character::Trs],
+    model: SkinningModel,
+) -> (u64, u64, f64) {
+    let ct = CharacterTree::build(
+        c,
+        &EdgeDedup::keep_all(&c.mesh),
+        model,
+        BuildParams::default(),
+    );
     // Bind-pose tree is a valid, nested sphere tree.
     let list: Vec<_> = ct.triangles.clone();
-    ct.tree.validate(&c.mesh, Checks { triangles: Some(&list), nested: true, tolerance: 0.0 }).unwrap();
+    ct.tree
+        .validate(
+            &c.mesh,
+            Checks {
+                triangles: Some(&list),
+                nested: true,
+                tolerance: 0.0,
+            },
+        )
+        .unwrap();
     let b = posed(c, local, model);
     let mut state = RefitState::new(&ct, c.skeleton.len());
     state.begin_frame(&c.skeleton, &b.skin);
-    Refitter { tree: &ct, skin: &b.skin, state: &mut state }.refit_all(c.skeleton.base());
+    Refitter {
+        tree: &ct,
+        skin: &b.skin,
+        state: &mut state,
+    }
+    .refit_all(c.skeleton.base());
     let tol = 1e-5 * c.mesh.size() as f64;
     let r = VertexSets::new(&ct.tree, &c.mesh).check(&state.spheres, &b.positions, tol);
     // The independent ancestor walk agrees on whether anything sticks out.
-    let (walk, walk_worst) = common::ancestor_walk_violations(&ct.tree, &state.spheres, &b.positions, c.mesh.indices(), tol);
+    let (walk, walk_worst) = common::ancestor_walk_violations(
+        &ct.tree,
+        &state.spheres,
+        &b.positions,
+        c.mesh.indices(),
+        tol,
+    );
     assert_eq!(walk == 0, r.violations == 0);
     assert!((walk_worst.max(0.0) - r.worst_excess.max(0.0)).abs() < 1e-6);
     (r.violations, r.checks, r.worst_excess)
@@ -59,18 +88,34 @@ fn refit_is_not_vacuous() {
     // Breaking the rule (ignoring the pose) must produce violations.
     let c = common::random_character(11, 6, 200);
     let local = common::random_pose(12, &c.skeleton, 1.0);
-    let ct = CharacterTree::build(&c, &EdgeDedup::keep_all(&c.mesh), SkinningModel::Linear, BuildParams::default());
+    let ct = CharacterTree::build(
+        &c,
+        &EdgeDedup::keep_all(&c.mesh),
+        SkinningModel::Linear,
+        BuildParams::default(),
+    );
     let b = posed(&c, &local, SkinningModel::Linear);
     let mut state = RefitState::new(&ct, c.skeleton.len());
     state.begin_frame(&c.skeleton, &b.skin);
     // Rest spheres, not refit: stamp them fresh by refitting then overwriting.
-    Refitter { tree: &ct, skin: &b.skin, state: &mut state }.refit_all(c.skeleton.base());
+    Refitter {
+        tree: &ct,
+        skin: &b.skin,
+        state: &mut state,
+    }
+    .refit_all(c.skeleton.base());
     for (s, n) in state.spheres.iter_mut().zip(ct.tree.nodes()) {
         *s = n.sphere;
     }
     let r = VertexSets::new(&ct.tree, &c.mesh).check(&state.spheres, &b.positions, 1e-5);
     assert!(r.violations > 0);
-    let (walk, _) = common::ancestor_walk_violations(&ct.tree, &state.spheres, &b.positions, c.mesh.indices(), 1e-5);
+    let (walk, _) = common::ancestor_walk_violations(
+        &ct.tree,
+        &state.spheres,
+        &b.positions,
+        c.mesh.indices(),
+        1e-5,
+    );
     assert!(walk > 0);
 }
 
@@ -78,7 +123,9 @@ fn refit_is_not_vacuous() {
 fn on_demand_refit_matches_full_refit_and_visits_less() {
     let c = common::random_character(5, 8, 400);
     let env = common::soup(9, 300, 3.0, 0.3);
-    let envlist: Vec<_> = (0..env.triangle_count() as u32).map(cornertree::mesh::TriangleId).collect();
+    let envlist: Vec<_> = (0..env.triangle_count() as u32)
+        .map(cornertree::mesh::TriangleId)
+        .collect();
     let mut env_tree = build_tree(&env, &envlist, BuildParams::default());
     let dedup = dedup_edges(&c.mesh);
     for model in [SkinningModel::Paper, SkinningModel::Linear] {
@@ -89,17 +136,36 @@ fn on_demand_refit_matches_full_refit_and_visits_less() {
 
         let mut full = RefitState::new(&ct, c.skeleton.len());
         full.begin_frame(&c.skeleton, &b.skin);
-        Refitter { tree: &ct, skin: &b.skin, state: &mut full }.refit_all(&base);
+        Refitter {
+            tree: &ct,
+            skin: &b.skin,
+            state: &mut full,
+        }
+        .refit_all(&base);
 
         let mut lazy = RefitState::new(&ct, c.skeleton.len());
         let mut ws = Workspace::new();
         let mut pairs_lazy = Vec::new();
         for frame in 0..2 {
             lazy.begin_frame(&c.skeleton, &b.skin);
-            let mut od = OnDemand { refitter: Refitter { tree: &ct, skin: &b.skin, state: &mut lazy }, base };
+            let mut od = OnDemand {
+                refitter: Refitter {
+                    tree: &ct,
+                    skin: &b.skin,
+                    state: &mut lazy,
+                },
+                base,
+            };
             pairs_lazy.clear();
-            traverse(&mut od, &mut env_tree, &mut ws, |p| pairs_lazy.push((p.primitive_a, p.primitive_b)));
-            assert!(lazy.refits > 0 && (lazy.refits as usize) < ct.tree.len(), "frame {frame}: {} refits of {}", lazy.refits, ct.tree.len());
+            traverse(&mut od, &mut env_tree, &mut ws, |p| {
+                pairs_lazy.push((p.primitive_a, p.primitive_b))
+            });
+            assert!(
+                lazy.refits > 0 && (lazy.refits as usize) < ct.tree.len(),
+                "frame {frame}: {} refits of {}",
+                lazy.refits,
+                ct.tree.len()
+            );
         }
         for i in 0..ct.tree.len() {
             if lazy.is_fresh(cornertree::sphere_tree::NodeId(i as u32)) {
@@ -112,7 +178,9 @@ fn on_demand_refit_matches_full_refit_and_visits_less() {
             *s = *f;
         }
         let mut pairs_full = Vec::new();
-        traverse(&mut refit_tree, &mut env_tree, &mut ws, |p| pairs_full.push((p.primitive_a, p.primitive_b)));
+        traverse(&mut refit_tree, &mut env_tree, &mut ws, |p| {
+            pairs_full.push((p.primitive_a, p.primitive_b))
+        });
         pairs_lazy.sort();
         pairs_full.sort();
         assert!(!pairs_full.is_empty(), "the scene must collide somewhere");

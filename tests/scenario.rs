@@ -10,7 +10,9 @@ use cornertree::pipeline::Method;
 use cornertree::scenario::{Placement, Resolved, ScenarioError, load_scenario, resolve};
 
 fn shipped(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("scenarios")
+        .join(name)
 }
 
 /// Minimum over every frame and vertex of the world z (the signed distance to
@@ -38,7 +40,9 @@ fn south_wall_extremes(r: &Resolved) -> (f64, f64, usize) {
 fn check_gap(file: &str, expect_frames: Option<usize>) -> (Resolved, f64, usize) {
     let path = shipped(file);
     let s = load_scenario(&path).unwrap_or_else(|e| panic!("{e}"));
-    let Placement::Gap(g) = &s.placement else { panic!("{file}: not a gap placement") };
+    let Placement::Gap(g) = &s.placement else {
+        panic!("{file}: not a gap placement")
+    };
     assert_eq!(g.surface, "south wall");
     let r = resolve(&s, path.parent().unwrap()).unwrap_or_else(|e| panic!("{e}"));
     if let Some(n) = expect_frames {
@@ -57,10 +61,24 @@ fn check_gap(file: &str, expect_frames: Option<usize>) -> (Resolved, f64, usize)
         report.closest_frame,
         r.frames()
     );
-    assert!((zmin - g.metres as f64).abs() < 1e-4, "{file}: min distance {zmin} for a gap of {}", g.metres);
-    assert!((report.achieved as f64 - zmin).abs() < 1e-4, "{file}: report {} vs {zmin}", report.achieved);
-    assert!(ymin.abs() < 1e-4, "{file}: feet at {ymin}, not on the floor");
-    assert!((report.normal.z - 1.0).abs() < 1e-6 && report.offset.abs() < 1e-6, "{file}: plane {report:?}");
+    assert!(
+        (zmin - g.metres as f64).abs() < 1e-4,
+        "{file}: min distance {zmin} for a gap of {}",
+        g.metres
+    );
+    assert!(
+        (report.achieved as f64 - zmin).abs() < 1e-4,
+        "{file}: report {} vs {zmin}",
+        report.achieved
+    );
+    assert!(
+        ymin.abs() < 1e-4,
+        "{file}: feet at {ymin}, not on the floor"
+    );
+    assert!(
+        (report.normal.z - 1.0).abs() < 1e-6 && report.offset.abs() < 1e-6,
+        "{file}: plane {report:?}"
+    );
     (r, zmin, behind)
 }
 
@@ -97,7 +115,11 @@ fn brainstem_keeps_1_cm_over_120_frames() {
 #[test]
 fn touching_penetrates_most_frames() {
     let (r, _, behind) = check_gap("touching.toml", None);
-    assert!(behind * 2 > r.frames(), "only {behind} of {} frames penetrate", r.frames());
+    assert!(
+        behind * 2 > r.frames(),
+        "only {behind} of {} frames penetrate",
+        r.frames()
+    );
     assert_eq!(r.gap.as_ref().unwrap().penetrating_frames, behind);
 }
 
@@ -109,7 +131,16 @@ fn every_shipped_scenario_is_tested() {
         .filter(|n| n.ends_with(".toml"))
         .collect();
     names.sort();
-    assert_eq!(names, ["brainstem.toml", "cesium_man.toml", "living_room.toml", "museum.toml", "touching.toml"]);
+    assert_eq!(
+        names,
+        [
+            "brainstem.toml",
+            "cesium_man.toml",
+            "living_room.toml",
+            "museum.toml",
+            "touching.toml"
+        ]
+    );
 }
 
 // ---- Bad files. ----
@@ -136,12 +167,16 @@ fn temp_dir() -> PathBuf {
 fn error_of(name: &str, text: &str) -> (PathBuf, String) {
     let path = temp_dir().join(name);
     std::fs::write(&path, text).unwrap();
-    let result: Result<_, ScenarioError> = load_scenario(&path).and_then(|s| resolve(&s, path.parent().unwrap()));
+    let result: Result<_, ScenarioError> =
+        load_scenario(&path).and_then(|s| resolve(&s, path.parent().unwrap()));
     let e = result.err().unwrap_or_else(|| panic!("{name}: loaded"));
     let msg = e.to_string();
     eprintln!("{msg}");
     assert!(!msg.contains('\n'), "{name}: not one line: {msg:?}");
-    assert!(msg.starts_with(&path.display().to_string()), "{name}: file not named: {msg}");
+    assert!(
+        msg.starts_with(&path.display().to_string()),
+        "{name}: file not named: {msg}"
+    );
     (path, msg)
 }
 
@@ -179,22 +214,37 @@ fn missing_asset_is_named() {
     let text = GOOD.replace("generated:humanoid?vertices=1000", "no/such/character.glb");
     let (path, msg) = error_of("missing_asset.toml", &text);
     assert!(msg.starts_with(&line_prefix(&path, 3)), "{msg}");
-    assert!(msg.contains("character.source") && msg.contains("no/such/character.glb"), "{msg}");
+    assert!(
+        msg.contains("character.source") && msg.contains("no/such/character.glb"),
+        "{msg}"
+    );
 
-    let text = GOOD.replace("kind = \"living-room\"", "kind = \"gltf\"\npath = \"rooms/none.glb\"");
+    let text = GOOD.replace(
+        "kind = \"living-room\"",
+        "kind = \"gltf\"\npath = \"rooms/none.glb\"",
+    );
     let (path, msg) = error_of("missing_scene.toml", &text);
     assert!(msg.starts_with(&line_prefix(&path, 8)), "{msg}");
-    assert!(msg.contains("environment.path") && msg.contains("rooms/none.glb"), "{msg}");
+    assert!(
+        msg.contains("environment.path") && msg.contains("rooms/none.glb"),
+        "{msg}"
+    );
 }
 
 #[test]
 fn negative_frames_and_fps_are_refused() {
     let (path, msg) = error_of("frames.toml", &format!("frames = -3\n{GOOD}"));
-    assert!(msg.starts_with(&line_prefix(&path, 1)) && msg.contains("frames") && msg.contains("-3"), "{msg}");
+    assert!(
+        msg.starts_with(&line_prefix(&path, 1)) && msg.contains("frames") && msg.contains("-3"),
+        "{msg}"
+    );
     let (_, msg) = error_of("frames0.toml", &format!("frames = 0\n{GOOD}"));
     assert!(msg.contains("frames"), "{msg}");
     let (path, msg) = error_of("fps.toml", &format!("fps = -30\n{GOOD}"));
-    assert!(msg.starts_with(&line_prefix(&path, 1)) && msg.contains("fps"), "{msg}");
+    assert!(
+        msg.starts_with(&line_prefix(&path, 1)) && msg.contains("fps"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -212,8 +262,14 @@ fn unknown_surface_lists_objects() {
     let text = GOOD.replace("\"south wall\"", "\"souht wall\"");
     let (path, msg) = error_of("surface.toml", &text);
     assert!(msg.starts_with(&line_prefix(&path, 10)), "{msg}");
-    assert!(msg.contains("placement.gap.surface") && msg.contains("souht wall"), "{msg}");
-    assert!(msg.contains("\"floor\"") || msg.contains("\"south wall\""), "{msg}");
+    assert!(
+        msg.contains("placement.gap.surface") && msg.contains("souht wall"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("\"floor\"") || msg.contains("\"south wall\""),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -223,7 +279,10 @@ fn placement_needs_exactly_one_kind() {
         "gap = { surface = \"south wall\", metres = 0.01 }\nstart = { translation = [1, 0, 1] }",
     );
     let (_, msg) = error_of("two_placements.toml", &text);
-    assert!(msg.contains("placement") && msg.contains("exactly one"), "{msg}");
+    assert!(
+        msg.contains("placement") && msg.contains("exactly one"),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -239,8 +298,17 @@ fn path_walks_facing_the_direction() {
     let iso = r.placement_at(30);
     assert!((iso.translation.vector - nalgebra::Vector3::new(2.5, 0.0, 1.0)).norm() < 1e-5);
     let forward = iso.rotation * nalgebra::Vector3::z();
-    assert!((forward - nalgebra::Vector3::x()).norm() < 1e-5, "{forward}");
+    assert!(
+        (forward - nalgebra::Vector3::x()).norm() < 1e-5,
+        "{forward}"
+    );
     // Frame 90: 4.5 m = 3 m + 1.5 m up the second leg, facing +Z; long after: the end.
-    assert!((r.placement_at(90).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 2.5)).norm() < 1e-5);
-    assert!((r.placement_at(1000).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 3.0)).norm() < 1e-5);
+    assert!(
+        (r.placement_at(90).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 2.5)).norm()
+            < 1e-5
+    );
+    assert!(
+        (r.placement_at(1000).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 3.0)).norm()
+            < 1e-5
+    );
 }

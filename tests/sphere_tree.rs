@@ -6,7 +6,9 @@ use std::collections::BTreeSet;
 
 use cornertree::mesh::{TriMesh, TriangleId, dedup_edges};
 use cornertree::sphere_tree::validate::Checks;
-use cornertree::sphere_tree::{BuildParams, Node, NodeId, SphereTree, Workspace, build_tree, traverse};
+use cornertree::sphere_tree::{
+    BuildParams, Node, NodeId, SphereTree, Workspace, build_tree, traverse,
+};
 use proptest::prelude::*;
 
 fn all(mesh: &TriMesh) -> Vec<TriangleId> {
@@ -14,12 +16,23 @@ fn all(mesh: &TriMesh) -> Vec<TriangleId> {
 }
 
 fn checks(list: &[TriangleId]) -> Checks<'_> {
-    Checks { triangles: Some(list), nested: true, tolerance: 0.0 }
+    Checks {
+        triangles: Some(list),
+        nested: true,
+        tolerance: 0.0,
+    }
 }
 
 /// Independent reference: plain recursion with the same opening rule, counting
 /// each sphere test where it is made.
-fn reference(a: &SphereTree, b: &SphereTree, i: u32, j: u32, tests: &mut u64, out: &mut BTreeSet<(u32, u32)>) {
+fn reference(
+    a: &SphereTree,
+    b: &SphereTree,
+    i: u32,
+    j: u32,
+    tests: &mut u64,
+    out: &mut BTreeSet<(u32, u32)>,
+) {
     let (na, nb): (&Node, &Node) = (&a.nodes()[i as usize], &b.nodes()[j as usize]);
     if na.is_leaf() && nb.is_leaf() {
         out.insert((na.primitive().unwrap(), nb.primitive().unwrap()));
@@ -59,7 +72,10 @@ fn check_against_brute_force(a: &SphereTree, b: &SphereTree) -> usize {
     let mut got = BTreeSet::new();
     let (mut a2, mut b2) = (a.clone(), b.clone());
     let stats = traverse(&mut a2, &mut b2, &mut ws, |p| {
-        assert!(got.insert((p.primitive_a, p.primitive_b)), "pair reported twice");
+        assert!(
+            got.insert((p.primitive_a, p.primitive_b)),
+            "pair reported twice"
+        );
     });
     assert_eq!(got, brute, "traversal leaf pairs differ from brute force");
     assert_eq!(stats.leaf_pairs as usize, brute.len());
@@ -86,8 +102,15 @@ fn validator_passes_on_generated_meshes_and_catches_breakage() {
     {
         for ratio in [0.5, 0.9, 1.0] {
             let list = all(mesh);
-            let t = build_tree(mesh, &list, BuildParams { collapse_ratio: ratio });
-            t.validate(mesh, checks(&list)).unwrap_or_else(|e| panic!("mesh {i} ratio {ratio}: {e}"));
+            let t = build_tree(
+                mesh,
+                &list,
+                BuildParams {
+                    collapse_ratio: ratio,
+                },
+            );
+            t.validate(mesh, checks(&list))
+                .unwrap_or_else(|e| panic!("mesh {i} ratio {ratio}: {e}"));
             assert_eq!(t.leaf_count(), mesh.triangle_count());
             assert_eq!(t.nodes_per_level().iter().sum::<usize>(), t.len());
             if ratio >= 1.0 && mesh.triangle_count() > 1 {
@@ -111,8 +134,20 @@ fn validator_passes_on_generated_meshes_and_catches_breakage() {
 fn collapse_removes_children_close_to_parent_size() {
     let mesh = common::uv_sphere(nalgebra::Point3::origin(), 1.0, 16, 16);
     let list = all(&mesh);
-    let binary = build_tree(&mesh, &list, BuildParams { collapse_ratio: 1.0 });
-    let nary = build_tree(&mesh, &list, BuildParams { collapse_ratio: 0.8 });
+    let binary = build_tree(
+        &mesh,
+        &list,
+        BuildParams {
+            collapse_ratio: 1.0,
+        },
+    );
+    let nary = build_tree(
+        &mesh,
+        &list,
+        BuildParams {
+            collapse_ratio: 0.8,
+        },
+    );
     assert!(nary.len() < binary.len());
     // No kept inner child has a radius within the ratio of its parent's.
     for n in nary.nodes() {
@@ -144,7 +179,12 @@ fn traversal_of_touching_spheres_and_empty_trees() {
     let tf = build_tree(&far, &all(&far), BuildParams::default());
     assert_eq!(check_against_brute_force(&ta, &tf), 0);
     let mut empty = SphereTree::default();
-    let stats = traverse(&mut ta.clone(), &mut empty, &mut Workspace::new(), |_| panic!());
+    let stats = traverse(
+        &mut ta.clone(),
+        &mut empty,
+        &mut Workspace::new(),
+        |_| panic!(),
+    );
     assert_eq!(stats.sphere_tests, 0);
     let _ = NodeId::ROOT;
 }

@@ -64,7 +64,13 @@ impl Division {
     /// Builds the hierarchy of `t` (triangle `id` of its mesh): a piece splits
     /// while its longest edge exceeds `threshold` (and, for a corner-tree, it
     /// has a boundary edge), up to `max_levels` levels.
-    pub fn build(t: &Triangle, id: TriangleId, kind: DivisionKind, threshold: Real, max_levels: usize) -> Self {
+    pub fn build(
+        t: &Triangle,
+        id: TriangleId,
+        kind: DivisionKind,
+        threshold: Real,
+        max_levels: usize,
+    ) -> Self {
         let slack = slack(t);
         let mut pieces = vec![SubTriangle::whole(*t)];
         let mut level = vec![1usize];
@@ -90,7 +96,13 @@ impl Division {
             }
             i += 1;
         }
-        Self { kind, original: id, tree: SphereTree::from_nodes(nodes), pieces, capped }
+        Self {
+            kind,
+            original: id,
+            tree: SphereTree::from_nodes(nodes),
+            pieces,
+            capped,
+        }
     }
 
     /// Checks that every sphere holds its piece, children tile their parent and
@@ -102,24 +114,43 @@ impl Division {
         let tol = 1e-6 * total.max(f64::MIN_POSITIVE);
         let mut leaves = 0.0;
         for (i, (node, piece)) in self.tree.nodes().iter().zip(&self.pieces).enumerate() {
-            if !piece.triangle.vertices().iter().all(|v| node.sphere.contains_point(v, 0.0)) {
+            if !piece
+                .triangle
+                .vertices()
+                .iter()
+                .all(|v| node.sphere.contains_point(v, 0.0))
+            {
                 return Err(DivisionError::PieceOutside { node: i as u32 });
             }
             match node.primitive() {
                 Some(p) if p != self.original.0 => {
-                    return Err(DivisionError::WrongPrimitive { node: i as u32, got: p, expected: self.original.0 });
+                    return Err(DivisionError::WrongPrimitive {
+                        node: i as u32,
+                        got: p,
+                        expected: self.original.0,
+                    });
                 }
                 Some(_) => leaves += area(piece),
                 None => {
-                    let sum: f64 = node.children().map(|c| area(&self.pieces[c as usize])).sum();
+                    let sum: f64 = node
+                        .children()
+                        .map(|c| area(&self.pieces[c as usize]))
+                        .sum();
                     if (sum - area(piece)).abs() > tol {
-                        return Err(DivisionError::ChildrenDoNotTile { node: i as u32, sum, area: area(piece) });
+                        return Err(DivisionError::ChildrenDoNotTile {
+                            node: i as u32,
+                            sum,
+                            area: area(piece),
+                        });
                     }
                 }
             }
         }
         if (leaves - total).abs() > tol {
-            return Err(DivisionError::LeavesDoNotTile { sum: leaves, area: total });
+            return Err(DivisionError::LeavesDoNotTile {
+                sum: leaves,
+                area: total,
+            });
         }
         Ok(())
     }
@@ -132,7 +163,11 @@ impl Division {
 
 /// A few ulps of the triangle's coordinate magnitude.
 fn slack(t: &Triangle) -> Real {
-    let m = t.vertices().iter().flat_map(|p| p.iter().map(|c| c.abs())).fold(0.0, Real::max);
+    let m = t
+        .vertices()
+        .iter()
+        .flat_map(|p| p.iter().map(|c| c.abs()))
+        .fold(0.0, Real::max);
     4.0 * Real::EPSILON * (m + t.longest_edge())
 }
 
@@ -162,7 +197,11 @@ mod tests {
     use crate::geometry::Point;
 
     fn t() -> Triangle {
-        Triangle::new(Point::new(-2.0, 0.5, 1.0), Point::new(3.0, 0.0, 0.7), Point::new(0.4, 2.9, -1.3))
+        Triangle::new(
+            Point::new(-2.0, 0.5, 1.0),
+            Point::new(3.0, 0.0, 0.7),
+            Point::new(0.4, 2.9, -1.3),
+        )
     }
 
     #[test]
@@ -178,7 +217,14 @@ mod tests {
             let d = Division::build(&t(), TriangleId(7), kind, 0.3, MAX_LEVELS);
             d.validate().unwrap();
             assert!(!d.capped);
-            assert!(d.pieces.iter().zip(d.tree.nodes()).all(|(p, n)| !n.is_leaf() || p.triangle.longest_edge() <= 0.3 || kind == DivisionKind::Corner));
+            assert!(
+                d.pieces
+                    .iter()
+                    .zip(d.tree.nodes())
+                    .all(|(p, n)| !n.is_leaf()
+                        || p.triangle.longest_edge() <= 0.3
+                        || kind == DivisionKind::Corner)
+            );
         }
         // A small triangle stays one leaf.
         let d = Division::build(&t(), TriangleId(0), DivisionKind::Full, 100.0, MAX_LEVELS);

@@ -14,7 +14,10 @@ pub struct SubTriangle {
 impl SubTriangle {
     /// The original triangle: all three edges on its boundary.
     pub fn whole(t: Triangle) -> Self {
-        Self { triangle: t, boundary: [true; 3] }
+        Self {
+            triangle: t,
+            boundary: [true; 3],
+        }
     }
 
     /// Whether an edge lies on the original boundary (a vertex alone does not count).
@@ -30,10 +33,22 @@ impl SubTriangle {
         let (mab, mbc, mca) = (midpoint(&a, &b), midpoint(&b, &c), midpoint(&c, &a));
         let [ab, bc, ca] = self.boundary;
         [
-            SubTriangle { triangle: Triangle::new(a, mab, mca), boundary: [ab, false, ca] },
-            SubTriangle { triangle: Triangle::new(mab, b, mbc), boundary: [ab, bc, false] },
-            SubTriangle { triangle: Triangle::new(mca, mbc, c), boundary: [false, bc, ca] },
-            SubTriangle { triangle: Triangle::new(mab, mbc, mca), boundary: [false; 3] },
+            SubTriangle {
+                triangle: Triangle::new(a, mab, mca),
+                boundary: [ab, false, ca],
+            },
+            SubTriangle {
+                triangle: Triangle::new(mab, b, mbc),
+                boundary: [ab, bc, false],
+            },
+            SubTriangle {
+                triangle: Triangle::new(mca, mbc, c),
+                boundary: [false, bc, ca],
+            },
+            SubTriangle {
+                triangle: Triangle::new(mab, mbc, mca),
+                boundary: [false; 3],
+            },
         ]
     }
 }
@@ -50,11 +65,19 @@ mod tests {
 
     #[test]
     fn split_tiles_and_tracks_boundary() {
-        let t = Triangle::new(Point::new(0.0, 0.0, 0.0), Point::new(4.0, 0.0, 0.0), Point::new(1.0, 3.0, 0.0));
+        let t = Triangle::new(
+            Point::new(0.0, 0.0, 0.0),
+            Point::new(4.0, 0.0, 0.0),
+            Point::new(1.0, 3.0, 0.0),
+        );
         let parts = SubTriangle::whole(t).split();
         let sum: f32 = parts.iter().map(|p| p.triangle.area()).sum();
         assert!((sum - t.area()).abs() < 1e-5);
-        assert!(parts[..3].iter().all(|p| p.boundary.iter().filter(|b| **b).count() == 2));
+        assert!(
+            parts[..3]
+                .iter()
+                .all(|p| p.boundary.iter().filter(|b| **b).count() == 2)
+        );
         assert!(!parts[3].touches_boundary());
         // Grandchildren: of a corner's children, three keep a boundary edge.
         let g = parts[0].split();

@@ -48,10 +48,22 @@ pub enum ChannelError {
     Empty { channel: usize },
     #[error("channel {channel}: keyframe times are not finite and increasing")]
     BadTimes { channel: usize },
-    #[error("channel {channel}: {values} values for {times} keyframes ({interpolation:?} needs {expected})")]
-    ValueCount { channel: usize, values: usize, times: usize, interpolation: Interpolation, expected: usize },
+    #[error(
+        "channel {channel}: {values} values for {times} keyframes ({interpolation:?} needs {expected})"
+    )]
+    ValueCount {
+        channel: usize,
+        values: usize,
+        times: usize,
+        interpolation: Interpolation,
+        expected: usize,
+    },
     #[error("channel {channel}: targets joint {joint}, but the skeleton has {joints}")]
-    JointOutOfRange { channel: usize, joint: usize, joints: usize },
+    JointOutOfRange {
+        channel: usize,
+        joint: usize,
+        joints: usize,
+    },
 }
 
 /// A named animation.
@@ -63,7 +75,11 @@ pub struct Clip {
 
 impl Clip {
     /// Checks every channel against a skeleton of `joint_count` joints.
-    pub fn new(name: String, channels: Vec<Channel>, joint_count: usize) -> Result<Self, ChannelError> {
+    pub fn new(
+        name: String,
+        channels: Vec<Channel>,
+        joint_count: usize,
+    ) -> Result<Self, ChannelError> {
         for (i, c) in channels.iter().enumerate() {
             if c.times.is_empty() {
                 return Err(ChannelError::Empty { channel: i });
@@ -71,7 +87,11 @@ impl Clip {
             if !c.times.iter().all(|t| t.is_finite()) || c.times.windows(2).any(|w| w[1] <= w[0]) {
                 return Err(ChannelError::BadTimes { channel: i });
             }
-            let per = if c.interpolation == Interpolation::CubicSpline { 3 } else { 1 };
+            let per = if c.interpolation == Interpolation::CubicSpline {
+                3
+            } else {
+                1
+            };
             if c.values.len() != per * c.times.len() {
                 return Err(ChannelError::ValueCount {
                     channel: i,
@@ -82,7 +102,11 @@ impl Clip {
                 });
             }
             if c.joint.index() >= joint_count {
-                return Err(ChannelError::JointOutOfRange { channel: i, joint: c.joint.index(), joints: joint_count });
+                return Err(ChannelError::JointOutOfRange {
+                    channel: i,
+                    joint: c.joint.index(),
+                    joints: joint_count,
+                });
             }
         }
         Ok(Self { name, channels })
@@ -90,17 +114,28 @@ impl Clip {
 
     /// Time of the first keyframe of any channel.
     pub fn start(&self) -> f32 {
-        self.channels.iter().map(|c| c.times[0]).fold(f32::INFINITY, f32::min).min(f32::INFINITY)
+        self.channels
+            .iter()
+            .map(|c| c.times[0])
+            .fold(f32::INFINITY, f32::min)
+            .min(f32::INFINITY)
     }
 
     /// Time of the last keyframe of any channel (0 for a clip with no channels).
     pub fn end(&self) -> f32 {
-        self.channels.iter().map(|c| *c.times.last().unwrap()).fold(0.0, f32::max)
+        self.channels
+            .iter()
+            .map(|c| *c.times.last().unwrap())
+            .fold(0.0, f32::max)
     }
 
     /// Length in seconds from the first to the last keyframe.
     pub fn duration(&self) -> f32 {
-        if self.channels.is_empty() { 0.0 } else { self.end() - self.start() }
+        if self.channels.is_empty() {
+            0.0
+        } else {
+            self.end() - self.start()
+        }
     }
 
     /// Local transforms at time `t` (seconds, clamped to the keyframes):
@@ -136,7 +171,12 @@ fn locate(times: &[f32], t: f32) -> (usize, Option<f32>) {
 /// Cubic Hermite weights for value k, out-tangent k, value k+1, in-tangent k+1.
 fn hermite(s: f32) -> [f32; 4] {
     let (s2, s3) = (s * s, s * s * s);
-    [2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, -2.0 * s3 + 3.0 * s2, s3 - s2]
+    [
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + s,
+        -2.0 * s3 + 3.0 * s2,
+        s3 - s2,
+    ]
 }
 
 fn sample_vec(c: &Channel, v: &[Vector3<f32>], t: f32) -> Vector3<f32> {
@@ -149,7 +189,10 @@ fn sample_vec(c: &Channel, v: &[Vector3<f32>], t: f32) -> Vector3<f32> {
         (Interpolation::CubicSpline, Some(s)) => {
             let td = c.times[k + 1] - c.times[k];
             let h = hermite(s);
-            v[3 * k + 1] * h[0] + v[3 * k + 2] * (h[1] * td) + v[3 * k + 4] * h[2] + v[3 * k + 3] * (h[3] * td)
+            v[3 * k + 1] * h[0]
+                + v[3 * k + 2] * (h[1] * td)
+                + v[3 * k + 4] * h[2]
+                + v[3 * k + 3] * (h[3] * td)
         }
     }
 }
@@ -177,7 +220,11 @@ fn slerp(a: UnitQuaternion<f32>, b: UnitQuaternion<f32>, s: f32) -> UnitQuaterni
 fn sample_rot(c: &Channel, q: &[Quaternion<f32>], t: f32) -> UnitQuaternion<f32> {
     let (k, s) = locate(&c.times, t);
     let unit = |q: Quaternion<f32>| {
-        if q.norm() > 0.0 { UnitQuaternion::from_quaternion(q) } else { UnitQuaternion::identity() }
+        if q.norm() > 0.0 {
+            UnitQuaternion::from_quaternion(q)
+        } else {
+            UnitQuaternion::identity()
+        }
     };
     match (c.interpolation, s) {
         (Interpolation::CubicSpline, None) => unit(q[3 * k + 1]),
@@ -187,7 +234,12 @@ fn sample_rot(c: &Channel, q: &[Quaternion<f32>], t: f32) -> UnitQuaternion<f32>
         (Interpolation::CubicSpline, Some(s)) => {
             let td = c.times[k + 1] - c.times[k];
             let h = hermite(s);
-            unit(q[3 * k + 1] * h[0] + q[3 * k + 2] * (h[1] * td) + q[3 * k + 4] * h[2] + q[3 * k + 3] * (h[3] * td))
+            unit(
+                q[3 * k + 1] * h[0]
+                    + q[3 * k + 2] * (h[1] * td)
+                    + q[3 * k + 4] * h[2]
+                    + q[3 * k + 3] * (h[3] * td),
+            )
         }
     }
 }
@@ -197,7 +249,17 @@ mod tests {
     use super::*;
 
     fn clip(interpolation: Interpolation, times: Vec<f32>, values: ChannelValues) -> Clip {
-        Clip::new("c".into(), vec![Channel { joint: JointId(0), interpolation, times, values }], 1).unwrap()
+        Clip::new(
+            "c".into(),
+            vec![Channel {
+                joint: JointId(0),
+                interpolation,
+                times,
+                values,
+            }],
+            1,
+        )
+        .unwrap()
     }
 
     fn at(c: &Clip, t: f32) -> Trs {
@@ -209,11 +271,19 @@ mod tests {
     #[test]
     fn step_linear_and_clamping() {
         let v = vec![Vector3::new(0.0, 0.0, 0.0), Vector3::new(2.0, 0.0, 0.0)];
-        let lin = clip(Interpolation::Linear, vec![1.0, 2.0], ChannelValues::Translation(v.clone()));
+        let lin = clip(
+            Interpolation::Linear,
+            vec![1.0, 2.0],
+            ChannelValues::Translation(v.clone()),
+        );
         assert_eq!(at(&lin, 1.5).translation.x, 1.0);
         assert_eq!(at(&lin, 0.0).translation.x, 0.0);
         assert_eq!(at(&lin, 9.0).translation.x, 2.0);
-        let step = clip(Interpolation::Step, vec![1.0, 2.0], ChannelValues::Translation(v));
+        let step = clip(
+            Interpolation::Step,
+            vec![1.0, 2.0],
+            ChannelValues::Translation(v),
+        );
         assert_eq!(at(&step, 1.99).translation.x, 0.0);
         assert_eq!(at(&step, 2.0).translation.x, 2.0);
         assert_eq!(lin.duration(), 1.0);
@@ -223,7 +293,11 @@ mod tests {
     fn rotation_slerps_halfway() {
         let a = UnitQuaternion::identity();
         let b = UnitQuaternion::from_euler_angles(0.0, 0.0, 1.0);
-        let c = clip(Interpolation::Linear, vec![0.0, 1.0], ChannelValues::Rotation(vec![*a.quaternion(), *b.quaternion()]));
+        let c = clip(
+            Interpolation::Linear,
+            vec![0.0, 1.0],
+            ChannelValues::Rotation(vec![*a.quaternion(), *b.quaternion()]),
+        );
         assert!((at(&c, 0.5).rotation.angle() - 0.5).abs() < 1e-5);
     }
 
@@ -232,31 +306,73 @@ mod tests {
         // 2e-4 rad apart: the dot product rounds to 1 in f32.
         let a = UnitQuaternion::identity();
         let b = UnitQuaternion::from_euler_angles(0.0, 0.0, 2e-4);
-        let c = clip(Interpolation::Linear, vec![0.0, 1.0], ChannelValues::Rotation(vec![*a.quaternion(), *b.quaternion()]));
+        let c = clip(
+            Interpolation::Linear,
+            vec![0.0, 1.0],
+            ChannelValues::Rotation(vec![*a.quaternion(), *b.quaternion()]),
+        );
         assert!((at(&c, 0.5).rotation.angle() - 1e-4).abs() < 1e-7);
         // Opposite signs take the shorter arc.
-        let d = clip(Interpolation::Linear, vec![0.0, 1.0], ChannelValues::Rotation(vec![*a.quaternion(), -*UnitQuaternion::from_euler_angles(0.0, 0.0, 1.0).quaternion()]));
+        let d = clip(
+            Interpolation::Linear,
+            vec![0.0, 1.0],
+            ChannelValues::Rotation(vec![
+                *a.quaternion(),
+                -*UnitQuaternion::from_euler_angles(0.0, 0.0, 1.0).quaternion(),
+            ]),
+        );
         assert!((at(&d, 0.5).rotation.angle() - 0.5).abs() < 1e-5);
     }
 
     #[test]
     fn cubic_spline_with_zero_tangents_hits_keys_and_is_smooth() {
         let z = Vector3::zeros();
-        let v = vec![z, Vector3::new(0.0, 0.0, 0.0), z, z, Vector3::new(4.0, 0.0, 0.0), z];
-        let c = clip(Interpolation::CubicSpline, vec![0.0, 1.0], ChannelValues::Translation(v));
+        let v = vec![
+            z,
+            Vector3::new(0.0, 0.0, 0.0),
+            z,
+            z,
+            Vector3::new(4.0, 0.0, 0.0),
+            z,
+        ];
+        let c = clip(
+            Interpolation::CubicSpline,
+            vec![0.0, 1.0],
+            ChannelValues::Translation(v),
+        );
         assert_eq!(at(&c, 0.0).translation.x, 0.0);
         assert_eq!(at(&c, 1.0).translation.x, 4.0);
         assert!((at(&c, 0.5).translation.x - 2.0).abs() < 1e-6);
-        assert!(at(&c, 0.25).translation.x < 1.0, "ease-in with zero tangents");
+        assert!(
+            at(&c, 0.25).translation.x < 1.0,
+            "ease-in with zero tangents"
+        );
     }
 
     #[test]
     fn bad_channels_are_rejected() {
         let v = ChannelValues::Scale(vec![Vector3::zeros()]);
-        let ch = |times: Vec<f32>, joint| Channel { joint: JointId(joint), interpolation: Interpolation::Linear, times, values: v.clone() };
-        assert!(matches!(Clip::new("x".into(), vec![ch(vec![], 0)], 1), Err(ChannelError::Empty { .. })));
-        assert!(matches!(Clip::new("x".into(), vec![ch(vec![0.0, 1.0], 0)], 1), Err(ChannelError::ValueCount { .. })));
-        assert!(matches!(Clip::new("x".into(), vec![ch(vec![0.0], 3)], 1), Err(ChannelError::JointOutOfRange { .. })));
-        assert!(matches!(Clip::new("x".into(), vec![ch(vec![f32::NAN], 0)], 1), Err(ChannelError::BadTimes { .. })));
+        let ch = |times: Vec<f32>, joint| Channel {
+            joint: JointId(joint),
+            interpolation: Interpolation::Linear,
+            times,
+            values: v.clone(),
+        };
+        assert!(matches!(
+            Clip::new("x".into(), vec![ch(vec![], 0)], 1),
+            Err(ChannelError::Empty { .. })
+        ));
+        assert!(matches!(
+            Clip::new("x".into(), vec![ch(vec![0.0, 1.0], 0)], 1),
+            Err(ChannelError::ValueCount { .. })
+        ));
+        assert!(matches!(
+            Clip::new("x".into(), vec![ch(vec![0.0], 3)], 1),
+            Err(ChannelError::JointOutOfRange { .. })
+        ));
+        assert!(matches!(
+            Clip::new("x".into(), vec![ch(vec![f32::NAN], 0)], 1),
+            Err(ChannelError::BadTimes { .. })
+        ));
     }
 }

@@ -45,7 +45,10 @@ use crate::mesh::{MeshError, TriMesh};
 
 use super::clip::ChannelError;
 use super::skinning::SkinError;
-use super::{Channel, ChannelValues, Character, Clip, Interpolation, Joint, JointId, Skeleton, SkeletonError, Trs};
+use super::{
+    Channel, ChannelValues, Character, Clip, Interpolation, Joint, JointId, Skeleton,
+    SkeletonError, Trs,
+};
 
 /// The paper's avatar size (§6).
 pub const PAPER_VERTICES: usize = 44_345;
@@ -67,14 +70,19 @@ pub struct HumanoidParams {
 
 impl Default for HumanoidParams {
     fn default() -> Self {
-        Self { vertices: PAPER_VERTICES, seed: 0 }
+        Self {
+            vertices: PAPER_VERTICES,
+            seed: 0,
+        }
     }
 }
 
 /// Why a humanoid cannot be generated.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum HumanoidError {
-    #[error("a humanoid of {requested} vertices was asked for; supported: {MIN_VERTICES} to {MAX_VERTICES}")]
+    #[error(
+        "a humanoid of {requested} vertices was asked for; supported: {MIN_VERTICES} to {MAX_VERTICES}"
+    )]
     VertexCount { requested: usize },
     #[error("generated skeleton is invalid: {0}")]
     Skeleton(#[from] SkeletonError),
@@ -100,9 +108,13 @@ pub fn generate_humanoid(p: &HumanoidParams) -> Result<Character, HumanoidError>
 }
 
 /// Generates the humanoid and reports where each body part lies in the mesh.
-pub fn generate_humanoid_parts(p: &HumanoidParams) -> Result<(Character, Vec<BodyPart>), HumanoidError> {
+pub fn generate_humanoid_parts(
+    p: &HumanoidParams,
+) -> Result<(Character, Vec<BodyPart>), HumanoidError> {
     if !(MIN_VERTICES..=MAX_VERTICES).contains(&p.vertices) {
-        return Err(HumanoidError::VertexCount { requested: p.vertices });
+        return Err(HumanoidError::VertexCount {
+            requested: p.vertices,
+        });
     }
     let skeleton = skeleton()?;
     let specs = part_specs();
@@ -112,7 +124,10 @@ pub fn generate_humanoid_parts(p: &HumanoidParams) -> Result<(Character, Vec<Bod
     let influences = super::Influences::new(built.joints, built.weights, skeleton.len())?;
     let clips = clips(&skeleton, p.seed)?;
     let name = format!("humanoid-{}v-seed{}", p.vertices, p.seed);
-    Ok((Character::new(name, skeleton, mesh, influences, clips), built.parts))
+    Ok((
+        Character::new(name, skeleton, mesh, influences, clips),
+        built.parts,
+    ))
 }
 
 // ---------------------------------------------------------------------------
@@ -145,7 +160,10 @@ const JOINTS: [(&str, Option<&str>, [f32; 3]); 22] = [
 ];
 
 fn joint_index(name: &str) -> usize {
-    JOINTS.iter().position(|j| j.0 == name).unwrap_or_else(|| panic!("no joint {name}"))
+    JOINTS
+        .iter()
+        .position(|j| j.0 == name)
+        .unwrap_or_else(|| panic!("no joint {name}"))
 }
 
 fn joint_pos(name: &str) -> Vector3<f32> {
@@ -192,20 +210,41 @@ struct PartSpec {
 
 impl PartSpec {
     /// A part from `from` to `to` with section keys at fractions of its length.
-    fn between(name: &'static str, from: Vector3<f32>, to: Vector3<f32>, keys: &[[f32; 3]], caps: [f32; 2]) -> Self {
+    fn between(
+        name: &'static str,
+        from: Vector3<f32>,
+        to: Vector3<f32>,
+        keys: &[[f32; 3]],
+        caps: [f32; 2],
+    ) -> Self {
         let d = to - from;
         let len = d.norm();
         let axis = d / len;
         // Width direction: X (or Y for an axis along X) made perpendicular.
-        let reference = if axis.x.abs() > 0.9 { Vector3::y() } else { Vector3::x() };
+        let reference = if axis.x.abs() > 0.9 {
+            Vector3::y()
+        } else {
+            Vector3::x()
+        };
         let u = (reference - axis * reference.dot(&axis)).normalize();
         let keys = keys.iter().map(|k| [k[0] * len, k[1], k[2]]).collect();
-        Self { name, start: from, axis, u, keys, caps, chain: Vec::new() }
+        Self {
+            name,
+            start: from,
+            axis,
+            u,
+            keys,
+            caps,
+            chain: Vec::new(),
+        }
     }
 
     /// Adds the joints along the axis: `(joint name, s, blend half-width)`.
     fn chain(mut self, chain: &[(&str, f32, f32)]) -> Self {
-        self.chain = chain.iter().map(|&(j, s, z)| (joint_index(j), s, z)).collect();
+        self.chain = chain
+            .iter()
+            .map(|&(j, s, z)| (joint_index(j), s, z))
+            .collect();
         self
     }
 
@@ -297,20 +336,39 @@ fn axial_parts() -> Vec<PartSpec> {
     ];
     // Domes close it at 0.78 m and 1.53 m.
     let (t0, t1) = (0.85, 1.47);
-    let torso_keys: Vec<[f32; 3]> = torso_keys.iter().map(|k| [(k[0] - t0) / (t1 - t0), k[1], k[2]]).collect();
+    let torso_keys: Vec<[f32; 3]> = torso_keys
+        .iter()
+        .map(|k| [(k[0] - t0) / (t1 - t0), k[1], k[2]])
+        .collect();
     let torso = PartSpec::between("torso", y(t0), y(t1), &torso_keys, [0.07, 0.06]).chain(&[
         ("pelvis", f32::NEG_INFINITY, 0.0),
         ("spine_01", 1.05 - t0, 0.04),
         ("spine_02", 1.17 - t0, 0.04),
         ("chest", 1.31 - t0, 0.04),
     ]);
-    let neck = PartSpec::between("neck", y(1.43), y(1.58), &[[0.0, 0.056, 0.056], [1.0, 0.050, 0.050]], [0.04, 0.03])
-        .chain(&[("chest", f32::NEG_INFINITY, 0.0), ("neck", 0.05, 0.035), ("head", 0.13, 0.03)]);
+    let neck = PartSpec::between(
+        "neck",
+        y(1.43),
+        y(1.58),
+        &[[0.0, 0.056, 0.056], [1.0, 0.050, 0.050]],
+        [0.04, 0.03],
+    )
+    .chain(&[
+        ("chest", f32::NEG_INFINITY, 0.0),
+        ("neck", 0.05, 0.035),
+        ("head", 0.13, 0.03),
+    ]);
     // Head: an ellipsoid centred at 1.66 m, a little forward (a 1 mm axis
     // between two domes).
     let centre = Vector3::new(0.0, 1.66, 0.012);
-    let head = PartSpec::between("head", centre, centre + Vector3::new(0.0, 1e-3, 0.0), &[[0.0, 0.078, 0.095], [1.0, 0.078, 0.095]], [0.115, 0.114])
-        .chain(&[("neck", f32::NEG_INFINITY, 0.0), ("head", -0.1, 0.03)]);
+    let head = PartSpec::between(
+        "head",
+        centre,
+        centre + Vector3::new(0.0, 1e-3, 0.0),
+        &[[0.0, 0.078, 0.095], [1.0, 0.078, 0.095]],
+        [0.115, 0.114],
+    )
+    .chain(&[("neck", f32::NEG_INFINITY, 0.0), ("head", -0.1, 0.03)]);
     vec![torso, neck, head]
 }
 
@@ -327,38 +385,144 @@ fn side_pos(base: &str, side: &str) -> Vector3<f32> {
 
 fn arm_parts(side: &str) -> Vec<PartSpec> {
     let j = |b| side_name(b, side);
-    let (shoulder, elbow, wrist) = (side_pos("upper_arm", side), side_pos("forearm", side), side_pos("hand", side));
+    let (shoulder, elbow, wrist) = (
+        side_pos("upper_arm", side),
+        side_pos("forearm", side),
+        side_pos("hand", side),
+    );
     let tip_l = Vector3::new(0.28, 0.70, 0.01);
     let tip = if side == "l" { tip_l } else { mirror(tip_l) };
     let upper_len = (elbow - shoulder).norm();
     let fore_len = (wrist - elbow).norm();
-    let upper = PartSpec::between(side_name("upper_arm", side), shoulder, elbow, &[[0.0, 0.052, 0.050], [0.5, 0.046, 0.046], [1.0, 0.038, 0.038]], [0.05, 0.035])
-        .chain(&[(j("clavicle"), f32::NEG_INFINITY, 0.0), (j("upper_arm"), 0.0, 0.035), (j("forearm"), upper_len, 0.03)]);
-    let fore = PartSpec::between(side_name("forearm", side), elbow, wrist, &[[0.0, 0.040, 0.040], [0.3, 0.042, 0.042], [1.0, 0.028, 0.023]], [0.035, 0.022])
-        .chain(&[(j("upper_arm"), f32::NEG_INFINITY, 0.0), (j("forearm"), 0.0, 0.03), (j("hand"), fore_len, 0.03)]);
+    let upper = PartSpec::between(
+        side_name("upper_arm", side),
+        shoulder,
+        elbow,
+        &[
+            [0.0, 0.052, 0.050],
+            [0.5, 0.046, 0.046],
+            [1.0, 0.038, 0.038],
+        ],
+        [0.05, 0.035],
+    )
+    .chain(&[
+        (j("clavicle"), f32::NEG_INFINITY, 0.0),
+        (j("upper_arm"), 0.0, 0.035),
+        (j("forearm"), upper_len, 0.03),
+    ]);
+    let fore = PartSpec::between(
+        side_name("forearm", side),
+        elbow,
+        wrist,
+        &[
+            [0.0, 0.040, 0.040],
+            [0.3, 0.042, 0.042],
+            [1.0, 0.028, 0.023],
+        ],
+        [0.035, 0.022],
+    )
+    .chain(&[
+        (j("upper_arm"), f32::NEG_INFINITY, 0.0),
+        (j("forearm"), 0.0, 0.03),
+        (j("hand"), fore_len, 0.03),
+    ]);
     // Hand: flat, thin across X (palm faces the thigh).
-    let hand = PartSpec::between(side_name("hand", side), wrist, tip, &[[0.0, 0.020, 0.030], [0.45, 0.016, 0.045], [1.0, 0.012, 0.034]], [0.015, 0.03])
-        .chain(&[(j("forearm"), f32::NEG_INFINITY, 0.0), (j("hand"), 0.0, 0.03)]);
+    let hand = PartSpec::between(
+        side_name("hand", side),
+        wrist,
+        tip,
+        &[
+            [0.0, 0.020, 0.030],
+            [0.45, 0.016, 0.045],
+            [1.0, 0.012, 0.034],
+        ],
+        [0.015, 0.03],
+    )
+    .chain(&[
+        (j("forearm"), f32::NEG_INFINITY, 0.0),
+        (j("hand"), 0.0, 0.03),
+    ]);
     vec![upper, fore, hand]
 }
 
 fn leg_parts(side: &str) -> Vec<PartSpec> {
     let j = |b| side_name(b, side);
-    let (hip, knee, ankle) = (side_pos("thigh", side), side_pos("shin", side), side_pos("foot", side));
-    let at = |p: [f32; 3]| if side == "l" { Vector3::from(p) } else { mirror(Vector3::from(p)) };
+    let (hip, knee, ankle) = (
+        side_pos("thigh", side),
+        side_pos("shin", side),
+        side_pos("foot", side),
+    );
+    let at = |p: [f32; 3]| {
+        if side == "l" {
+            Vector3::from(p)
+        } else {
+            mirror(Vector3::from(p))
+        }
+    };
     let thigh_len = (knee - hip).norm();
     let shin_len = (ankle - knee).norm();
-    let thigh = PartSpec::between(side_name("thigh", side), hip, knee, &[[0.0, 0.090, 0.090], [0.3, 0.085, 0.085], [1.0, 0.055, 0.058]], [0.08, 0.05])
-        .chain(&[("pelvis", f32::NEG_INFINITY, 0.0), (j("thigh"), 0.0, 0.05), (j("shin"), thigh_len, 0.04)]);
-    let shin = PartSpec::between(side_name("shin", side), knee, ankle, &[[0.0, 0.052, 0.055], [0.3, 0.055, 0.060], [1.0, 0.035, 0.035]], [0.045, 0.04])
-        .chain(&[(j("thigh"), f32::NEG_INFINITY, 0.0), (j("shin"), 0.0, 0.04), (j("foot"), shin_len, 0.03)]);
+    let thigh = PartSpec::between(
+        side_name("thigh", side),
+        hip,
+        knee,
+        &[
+            [0.0, 0.090, 0.090],
+            [0.3, 0.085, 0.085],
+            [1.0, 0.055, 0.058],
+        ],
+        [0.08, 0.05],
+    )
+    .chain(&[
+        ("pelvis", f32::NEG_INFINITY, 0.0),
+        (j("thigh"), 0.0, 0.05),
+        (j("shin"), thigh_len, 0.04),
+    ]);
+    let shin = PartSpec::between(
+        side_name("shin", side),
+        knee,
+        ankle,
+        &[
+            [0.0, 0.052, 0.055],
+            [0.3, 0.055, 0.060],
+            [1.0, 0.035, 0.035],
+        ],
+        [0.045, 0.04],
+    )
+    .chain(&[
+        (j("thigh"), f32::NEG_INFINITY, 0.0),
+        (j("shin"), 0.0, 0.04),
+        (j("foot"), shin_len, 0.03),
+    ]);
     // Foot: heel to ball along +Z; the toe joint sits at the ball.
-    let (heel, ball, toe_tip) = (at([0.10, 0.055, -0.05]), at([0.10, 0.045, 0.125]), at([0.10, 0.035, 0.20]));
+    let (heel, ball, toe_tip) = (
+        at([0.10, 0.055, -0.05]),
+        at([0.10, 0.045, 0.125]),
+        at([0.10, 0.035, 0.20]),
+    );
     let ball_s = (side_pos("toe", side) - heel).dot(&(ball - heel).normalize());
-    let foot = PartSpec::between(side_name("foot", side), heel, ball, &[[0.0, 0.040, 0.045], [0.5, 0.045, 0.040], [1.0, 0.047, 0.028]], [0.03, 0.02])
-        .chain(&[(j("foot"), f32::NEG_INFINITY, 0.0), (j("toe"), ball_s, 0.03)]);
-    let toe = PartSpec::between(side_name("toe", side), ball, toe_tip, &[[0.0, 0.046, 0.025], [1.0, 0.040, 0.018]], [0.015, 0.02])
-        .chain(&[(j("foot"), f32::NEG_INFINITY, 0.0), (j("toe"), 0.0, 0.03)]);
+    let foot = PartSpec::between(
+        side_name("foot", side),
+        heel,
+        ball,
+        &[
+            [0.0, 0.040, 0.045],
+            [0.5, 0.045, 0.040],
+            [1.0, 0.047, 0.028],
+        ],
+        [0.03, 0.02],
+    )
+    .chain(&[
+        (j("foot"), f32::NEG_INFINITY, 0.0),
+        (j("toe"), ball_s, 0.03),
+    ]);
+    let toe = PartSpec::between(
+        side_name("toe", side),
+        ball,
+        toe_tip,
+        &[[0.0, 0.046, 0.025], [1.0, 0.040, 0.018]],
+        [0.015, 0.02],
+    )
+    .chain(&[(j("foot"), f32::NEG_INFINITY, 0.0), (j("toe"), 0.0, 0.03)]);
     vec![thigh, shin, foot, toe]
 }
 
@@ -414,7 +578,11 @@ fn meridian(spec: &PartSpec) -> Vec<(f32, f32)> {
 fn s_at_length(m: &[(f32, f32)], l: f32) -> f32 {
     let k = m.partition_point(|e| e.1 <= l).clamp(1, m.len() - 1);
     let (p, q) = (m[k - 1], m[k]);
-    if q.1 <= p.1 { p.0 } else { p.0 + (q.0 - p.0) * (l - p.1) / (q.1 - p.1) }
+    if q.1 <= p.1 {
+        p.0
+    } else {
+        p.0 + (q.0 - p.0) * (l - p.1) / (q.1 - p.1)
+    }
 }
 
 /// Ramanujan's approximation of an ellipse's perimeter.
@@ -442,15 +610,29 @@ fn layout(spec: &PartSpec, m: &[(f32, f32)], h: f32) -> Layout {
 /// vertices: bisection on the edge length, then one-vertex ring adjustments.
 fn fit_layout(specs: &[PartSpec], target: usize) -> Vec<Layout> {
     let meridians: Vec<_> = specs.iter().map(meridian).collect();
-    let at = |h: f32| -> Vec<Layout> { specs.iter().zip(&meridians).map(|(s, m)| layout(s, m, h)).collect() };
+    let at = |h: f32| -> Vec<Layout> {
+        specs
+            .iter()
+            .zip(&meridians)
+            .map(|(s, m)| layout(s, m, h))
+            .collect()
+    };
     let count = |ls: &[Layout]| ls.iter().map(Layout::vertex_count).sum::<usize>();
     let (mut lo, mut hi) = (1e-4f32, 0.5f32);
     for _ in 0..60 {
         let mid = (lo * hi).sqrt();
-        if count(&at(mid)) > target { lo = mid } else { hi = mid }
+        if count(&at(mid)) > target {
+            lo = mid
+        } else {
+            hi = mid
+        }
     }
     let (a, b) = (at(lo), at(hi));
-    let mut best = if count(&a).abs_diff(target) < count(&b).abs_diff(target) { a } else { b };
+    let mut best = if count(&a).abs_diff(target) < count(&b).abs_diff(target) {
+        a
+    } else {
+        b
+    };
     adjust_counts(&mut best, target);
     best
 }
@@ -458,10 +640,16 @@ fn fit_layout(specs: &[PartSpec], target: usize) -> Vec<Layout> {
 /// Adds or removes single vertices on the largest rings until `target` is met
 /// (at most an eighth of a ring's count changes).
 fn adjust_counts(layouts: &mut [Layout], target: usize) {
-    let mut order: Vec<(usize, usize)> =
-        layouts.iter().enumerate().flat_map(|(p, l)| (0..l.rings.len()).map(move |r| (p, r))).collect();
+    let mut order: Vec<(usize, usize)> = layouts
+        .iter()
+        .enumerate()
+        .flat_map(|(p, l)| (0..l.rings.len()).map(move |r| (p, r)))
+        .collect();
     order.sort_by_key(|&(p, r)| (std::cmp::Reverse(layouts[p].rings[r].n), p, r));
-    let original: Vec<Vec<usize>> = layouts.iter().map(|l| l.rings.iter().map(|r| r.n).collect()).collect();
+    let original: Vec<Vec<usize>> = layouts
+        .iter()
+        .map(|l| l.rings.iter().map(|r| r.n).collect())
+        .collect();
     let mut current: isize = layouts.iter().map(Layout::vertex_count).sum::<usize>() as isize;
     let target = target as isize;
     let mut changed = true;
@@ -496,11 +684,21 @@ struct Surface {
 }
 
 fn build_surface(specs: &[PartSpec], layouts: &[Layout]) -> Surface {
-    let mut out = Surface { positions: Vec::new(), triangles: Vec::new(), joints: Vec::new(), weights: Vec::new(), parts: Vec::new() };
+    let mut out = Surface {
+        positions: Vec::new(),
+        triangles: Vec::new(),
+        joints: Vec::new(),
+        weights: Vec::new(),
+        parts: Vec::new(),
+    };
     for (spec, layout) in specs.iter().zip(layouts) {
         let (v0, t0) = (out.positions.len(), out.triangles.len());
         add_part(&mut out, spec, layout);
-        out.parts.push(BodyPart { name: spec.name, vertices: v0..out.positions.len(), triangles: t0..out.triangles.len() });
+        out.parts.push(BodyPart {
+            name: spec.name,
+            vertices: v0..out.positions.len(),
+            triangles: t0..out.triangles.len(),
+        });
     }
     out
 }
@@ -525,7 +723,8 @@ fn add_part(out: &mut Surface, spec: &PartSpec, layout: &Layout) {
     let last = rings.len() - 1;
     for i in 0..rings[0].n as u32 {
         let n = rings[0].n as u32;
-        out.triangles.push([start_pole, ring_starts[0] + (i + 1) % n, ring_starts[0] + i]);
+        out.triangles
+            .push([start_pole, ring_starts[0] + (i + 1) % n, ring_starts[0] + i]);
     }
     for k in 0..last {
         let a = (ring_starts[k], rings[k].n, offsets[k]);
@@ -534,7 +733,11 @@ fn add_part(out: &mut Surface, spec: &PartSpec, layout: &Layout) {
     }
     for i in 0..rings[last].n as u32 {
         let n = rings[last].n as u32;
-        out.triangles.push([end_pole, ring_starts[last] + i, ring_starts[last] + (i + 1) % n]);
+        out.triangles.push([
+            end_pole,
+            ring_starts[last] + i,
+            ring_starts[last] + (i + 1) % n,
+        ]);
     }
 }
 
@@ -560,7 +763,10 @@ fn ring_points(spec: &PartSpec, ring: &Ring, offset: f32) -> Vec<Vector3<f32>> {
     let mut acc = 0.0;
     cum.push(0.0);
     for i in 1..=RING_SAMPLES {
-        let (p, q) = (at(TAU * (i - 1) as f32 / RING_SAMPLES as f32), at(TAU * i as f32 / RING_SAMPLES as f32));
+        let (p, q) = (
+            at(TAU * (i - 1) as f32 / RING_SAMPLES as f32),
+            at(TAU * i as f32 / RING_SAMPLES as f32),
+        );
         acc += (q - p).norm();
         cum.push(acc);
     }
@@ -568,7 +774,11 @@ fn ring_points(spec: &PartSpec, ring: &Ring, offset: f32) -> Vec<Vector3<f32>> {
         .map(|i| {
             let l = acc * (i as f32 + offset) / ring.n as f32;
             let k = cum.partition_point(|&c| c <= l).clamp(1, RING_SAMPLES);
-            let t = if cum[k] > cum[k - 1] { (l - cum[k - 1]) / (cum[k] - cum[k - 1]) } else { 0.0 };
+            let t = if cum[k] > cum[k - 1] {
+                (l - cum[k - 1]) / (cum[k] - cum[k - 1])
+            } else {
+                0.0
+            };
             let phi = TAU * ((k - 1) as f32 + t) / RING_SAMPLES as f32;
             centre + at(phi)
         })
@@ -636,7 +846,12 @@ fn rot(pitch: f32, yaw: f32, roll: f32) -> UnitQuaternion<f32> {
 }
 
 /// A LINEAR rotation channel sampled from `f` (kept in one hemisphere).
-fn rotation_channel(s: &Skeleton, joint: &str, times: &[f32], f: impl Fn(f32) -> UnitQuaternion<f32>) -> Channel {
+fn rotation_channel(
+    s: &Skeleton,
+    joint: &str,
+    times: &[f32],
+    f: impl Fn(f32) -> UnitQuaternion<f32>,
+) -> Channel {
     let mut values: Vec<Quaternion<f32>> = Vec::with_capacity(times.len());
     for &t in times {
         let mut q = *f(t).quaternion();
@@ -649,18 +864,37 @@ fn rotation_channel(s: &Skeleton, joint: &str, times: &[f32], f: impl Fn(f32) ->
 }
 
 /// A LINEAR translation channel for `joint` sampled from `f`.
-fn translation_channel(s: &Skeleton, joint: &str, times: &[f32], f: impl Fn(f32) -> Vector3<f32>) -> Channel {
-    channel(s, joint, times, ChannelValues::Translation(times.iter().map(|&t| f(t)).collect()))
+fn translation_channel(
+    s: &Skeleton,
+    joint: &str,
+    times: &[f32],
+    f: impl Fn(f32) -> Vector3<f32>,
+) -> Channel {
+    channel(
+        s,
+        joint,
+        times,
+        ChannelValues::Translation(times.iter().map(|&t| f(t)).collect()),
+    )
 }
 
 fn channel(s: &Skeleton, joint: &str, times: &[f32], values: ChannelValues) -> Channel {
     let joint = s.find(joint).unwrap_or_else(|| panic!("no joint {joint}"));
-    Channel { joint, interpolation: Interpolation::Linear, times: times.to_vec(), values }
+    Channel {
+        joint,
+        interpolation: Interpolation::Linear,
+        times: times.to_vec(),
+        values,
+    }
 }
 
 fn clips(s: &Skeleton, seed: u64) -> Result<Vec<Clip>, ChannelError> {
     let mut rng = SplitMix(seed ^ 0x6875_6D61_6E6F_6964);
-    Ok(vec![walk(s, &mut rng)?, reach(s, &mut rng)?, turn(s, &mut rng)?])
+    Ok(vec![
+        walk(s, &mut rng)?,
+        reach(s, &mut rng)?,
+        turn(s, &mut rng)?,
+    ])
 }
 
 /// Flexion signs: hips and shoulders flex forward with a negative X rotation,
@@ -679,28 +913,48 @@ fn walk(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
         translation_channel(s, "pelvis", &times, |t| {
             pelvis_rest + Vector3::new(0.0, 0.02 * (2.0 * ph(t)).cos() - 0.02, stride * t / period)
         }),
-        rotation_channel(s, "pelvis", &times, |t| rot(0.0, 0.08 * ph(t).sin(), 0.03 * ph(t).sin())),
+        rotation_channel(s, "pelvis", &times, |t| {
+            rot(0.0, 0.08 * ph(t).sin(), 0.03 * ph(t).sin())
+        }),
         rotation_channel(s, "chest", &times, |t| rot(0.04, -0.12 * ph(t).sin(), 0.0)),
         rotation_channel(s, "head", &times, |t| rot(0.0, 0.04 * ph(t).sin(), 0.0)),
     ];
     for (side, shift) in [("l", 0.0), ("r", PI)] {
         let q = move |t: f32| ph(t) + shift;
-        ch.push(rotation_channel(s, &format!("thigh_{side}"), &times, |t| rot(-hip * q(t).sin(), 0.0, 0.0)));
+        ch.push(rotation_channel(s, &format!("thigh_{side}"), &times, |t| {
+            rot(-hip * q(t).sin(), 0.0, 0.0)
+        }));
         // The knee bends most mid-swing, when the hip swings forward.
         ch.push(rotation_channel(s, &format!("shin_{side}"), &times, |t| {
             rot(0.08 + knee * (q(t) + lag).cos().max(0.0).powi(2), 0.0, 0.0)
         }));
-        ch.push(rotation_channel(s, &format!("foot_{side}"), &times, |t| rot(0.15 * q(t).sin(), 0.0, 0.0)));
+        ch.push(rotation_channel(s, &format!("foot_{side}"), &times, |t| {
+            rot(0.15 * q(t).sin(), 0.0, 0.0)
+        }));
         // Arms swing against the leg of the same side.
-        ch.push(rotation_channel(s, &format!("upper_arm_{side}"), &times, |t| rot(arm * q(t).sin(), 0.0, 0.0)));
-        ch.push(rotation_channel(s, &format!("forearm_{side}"), &times, |t| rot(-0.25 - 0.12 * (q(t) + PI).sin(), 0.0, 0.0)));
+        ch.push(rotation_channel(
+            s,
+            &format!("upper_arm_{side}"),
+            &times,
+            |t| rot(arm * q(t).sin(), 0.0, 0.0),
+        ));
+        ch.push(rotation_channel(
+            s,
+            &format!("forearm_{side}"),
+            &times,
+            |t| rot(-0.25 - 0.12 * (q(t) + PI).sin(), 0.0, 0.0),
+        ));
     }
     Clip::new("walk".into(), ch, s.len())
 }
 
 /// Rise to 1 over `[0, up]`, hold, fall back to 0 over `[down, end]`.
 fn envelope(t: f32, up: f32, down: f32, end: f32) -> f32 {
-    if t < down { smoothstep(t / up) } else { 1.0 - smoothstep((t - down) / (end - down)) }
+    if t < down {
+        smoothstep(t / up)
+    } else {
+        1.0 - smoothstep((t - down) / (end - down))
+    }
 }
 
 fn reach(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
@@ -712,14 +966,26 @@ fn reach(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
     let e = move |t: f32| envelope(t, up, down, end);
     let ch = vec![
         // Turn the torso so the right shoulder comes forward, lean a little.
-        rotation_channel(s, "spine_01", &times, |t| rot(0.04 * e(t), 0.4 * twist * e(t), 0.0)),
-        rotation_channel(s, "spine_02", &times, |t| rot(0.04 * e(t), 0.3 * twist * e(t), 0.0)),
-        rotation_channel(s, "chest", &times, |t| rot(0.06 * e(t), 0.3 * twist * e(t), 0.0)),
-        rotation_channel(s, "head", &times, |t| rot(0.1 * e(t), 0.5 * twist * e(t), 0.0)),
+        rotation_channel(s, "spine_01", &times, |t| {
+            rot(0.04 * e(t), 0.4 * twist * e(t), 0.0)
+        }),
+        rotation_channel(s, "spine_02", &times, |t| {
+            rot(0.04 * e(t), 0.3 * twist * e(t), 0.0)
+        }),
+        rotation_channel(s, "chest", &times, |t| {
+            rot(0.06 * e(t), 0.3 * twist * e(t), 0.0)
+        }),
+        rotation_channel(s, "head", &times, |t| {
+            rot(0.1 * e(t), 0.5 * twist * e(t), 0.0)
+        }),
         rotation_channel(s, "clavicle_r", &times, |t| rot(0.0, -0.15 * e(t), 0.0)),
         // Raise the right arm forward, bend the elbow on the way, palm to the wall.
-        rotation_channel(s, "upper_arm_r", &times, |t| rot(-lift * e(t), 0.0, -0.1 * e(t))),
-        rotation_channel(s, "forearm_r", &times, |t| rot(-0.5 * (PI * e(t)).sin(), 0.0, 0.0)),
+        rotation_channel(s, "upper_arm_r", &times, |t| {
+            rot(-lift * e(t), 0.0, -0.1 * e(t))
+        }),
+        rotation_channel(s, "forearm_r", &times, |t| {
+            rot(-0.5 * (PI * e(t)).sin(), 0.0, 0.0)
+        }),
         rotation_channel(s, "hand_r", &times, |t| rot(0.6 * e(t), 0.0, 0.0)),
     ];
     Clip::new("reach".into(), ch, s.len())
@@ -732,16 +998,42 @@ fn turn(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
     let times = key_times(end);
     let u = move |t: f32| t / end;
     // One step per leg: left in the first half, right in the second.
-    let bump = move |x: f32| if (0.0..=1.0).contains(&x) { (PI * x).sin().powi(2) } else { 0.0 };
+    let bump = move |x: f32| {
+        if (0.0..=1.0).contains(&x) {
+            (PI * x).sin().powi(2)
+        } else {
+            0.0
+        }
+    };
     let ch = vec![
-        rotation_channel(s, "pelvis", &times, |t| rot(0.0, angle * smoothstep(u(t)), 0.0)),
-        rotation_channel(s, "head", &times, |t| rot(0.0, 0.2 * angle * bump(u(t)), 0.0)),
-        rotation_channel(s, "thigh_l", &times, |t| rot(-step * bump(2.0 * u(t)), -0.3 * bump(2.0 * u(t)), 0.0)),
-        rotation_channel(s, "shin_l", &times, |t| rot(2.0 * step * bump(2.0 * u(t)), 0.0, 0.0)),
-        rotation_channel(s, "thigh_r", &times, |t| rot(-step * bump(2.0 * u(t) - 1.0), 0.3 * bump(2.0 * u(t) - 1.0), 0.0)),
-        rotation_channel(s, "shin_r", &times, |t| rot(2.0 * step * bump(2.0 * u(t) - 1.0), 0.0, 0.0)),
-        rotation_channel(s, "upper_arm_l", &times, |t| rot(0.1 * bump(u(t)), 0.0, 0.0)),
-        rotation_channel(s, "upper_arm_r", &times, |t| rot(-0.1 * bump(u(t)), 0.0, 0.0)),
+        rotation_channel(s, "pelvis", &times, |t| {
+            rot(0.0, angle * smoothstep(u(t)), 0.0)
+        }),
+        rotation_channel(s, "head", &times, |t| {
+            rot(0.0, 0.2 * angle * bump(u(t)), 0.0)
+        }),
+        rotation_channel(s, "thigh_l", &times, |t| {
+            rot(-step * bump(2.0 * u(t)), -0.3 * bump(2.0 * u(t)), 0.0)
+        }),
+        rotation_channel(s, "shin_l", &times, |t| {
+            rot(2.0 * step * bump(2.0 * u(t)), 0.0, 0.0)
+        }),
+        rotation_channel(s, "thigh_r", &times, |t| {
+            rot(
+                -step * bump(2.0 * u(t) - 1.0),
+                0.3 * bump(2.0 * u(t) - 1.0),
+                0.0,
+            )
+        }),
+        rotation_channel(s, "shin_r", &times, |t| {
+            rot(2.0 * step * bump(2.0 * u(t) - 1.0), 0.0, 0.0)
+        }),
+        rotation_channel(s, "upper_arm_l", &times, |t| {
+            rot(0.1 * bump(u(t)), 0.0, 0.0)
+        }),
+        rotation_channel(s, "upper_arm_r", &times, |t| {
+            rot(-0.1 * bump(u(t)), 0.0, 0.0)
+        }),
     ];
     Clip::new("turn".into(), ch, s.len())
 }

@@ -16,9 +16,9 @@ pub mod skeleton;
 pub mod skinning;
 pub mod transform;
 
-pub use model::{Character, PoseBuffers, UnknownClip};
-pub use humanoid::{HumanoidError, HumanoidParams, generate_humanoid};
 pub use clip::{Channel, ChannelValues, Clip, Interpolation};
+pub use humanoid::{HumanoidError, HumanoidParams, generate_humanoid};
+pub use model::{Character, PoseBuffers, UnknownClip};
 pub use skeleton::{Joint, JointId, Skeleton, SkeletonError};
 pub use skinning::{Influences, PaperBinding, SkinningModel};
 pub use transform::Trs;

@@ -32,9 +32,22 @@ pub struct UnknownClip {
 
 impl Character {
     /// Assembles a character; the paper binding is derived from the influences.
-    pub fn new(name: String, skeleton: Skeleton, mesh: TriMesh, influences: Influences, clips: Vec<Clip>) -> Self {
+    pub fn new(
+        name: String,
+        skeleton: Skeleton,
+        mesh: TriMesh,
+        influences: Influences,
+        clips: Vec<Clip>,
+    ) -> Self {
         let paper = PaperBinding::from_influences(&influences, &skeleton);
-        Self { name, skeleton, mesh, influences, paper, clips }
+        Self {
+            name,
+            skeleton,
+            mesh,
+            influences,
+            paper,
+            clips,
+        }
     }
 
     /// The clip called `name`, or the first clip when `name` is `None`.
@@ -78,8 +91,12 @@ impl PoseBuffers {
             Some(c) => c.sample(t, rest, &mut self.local),
             None => self.local.copy_from_slice(rest),
         }
-        character.skeleton.world_matrices(&self.local, &mut self.world);
-        character.skeleton.skin_matrices(&self.world, &mut self.skin);
+        character
+            .skeleton
+            .world_matrices(&self.local, &mut self.world);
+        character
+            .skeleton
+            .skin_matrices(&self.world, &mut self.skin);
     }
 
     /// Moves the posed character rigidly: premultiplies world and skin matrices
@@ -95,8 +112,16 @@ impl PoseBuffers {
     pub fn skin_all(&mut self, character: &Character, model: SkinningModel) {
         let bind = character.mesh.positions();
         match model {
-            SkinningModel::Linear => character.influences.skin(bind, &self.skin, &mut self.positions),
-            SkinningModel::Paper => character.paper.skin(&character.skeleton, bind, &self.skin, &mut self.positions),
+            SkinningModel::Linear => {
+                character
+                    .influences
+                    .skin(bind, &self.skin, &mut self.positions)
+            }
+            SkinningModel::Paper => {
+                character
+                    .paper
+                    .skin(&character.skeleton, bind, &self.skin, &mut self.positions)
+            }
         }
     }
 }

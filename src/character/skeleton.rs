@@ -35,7 +35,11 @@ pub enum SkeletonError {
     #[error("skeleton has {0} joints; at most 65535 are supported")]
     TooMany(usize),
     #[error("joint {joint} ({name}) has parent {parent}, which does not come before it")]
-    ParentNotBefore { joint: usize, name: String, parent: usize },
+    ParentNotBefore {
+        joint: usize,
+        name: String,
+        parent: usize,
+    },
     #[error("joint {joint} ({name}) has a non-finite rest transform or inverse bind matrix")]
     NonFinite { joint: usize, name: String },
 }
@@ -64,14 +68,21 @@ impl Skeleton {
             if let Some(p) = j.parent
                 && p.index() >= i
             {
-                return Err(SkeletonError::ParentNotBefore { joint: i, name: j.name.clone(), parent: p.index() });
+                return Err(SkeletonError::ParentNotBefore {
+                    joint: i,
+                    name: j.name.clone(),
+                    parent: p.index(),
+                });
             }
             let finite = j.rest.translation.iter().all(|c| c.is_finite())
                 && j.rest.rotation.coords.iter().all(|c| c.is_finite())
                 && j.rest.scale.iter().all(|c| c.is_finite())
                 && j.inverse_bind.iter().all(|c| c.is_finite());
             if !finite {
-                return Err(SkeletonError::NonFinite { joint: i, name: j.name.clone() });
+                return Err(SkeletonError::NonFinite {
+                    joint: i,
+                    name: j.name.clone(),
+                });
             }
         }
         let rest = joints.iter().map(|j| j.rest).collect();
@@ -103,7 +114,10 @@ impl Skeleton {
     }
 
     pub fn find(&self, name: &str) -> Option<JointId> {
-        self.joints.iter().position(|j| j.name == name).map(|i| JointId(i as u16))
+        self.joints
+            .iter()
+            .position(|j| j.name == name)
+            .map(|i| JointId(i as u16))
     }
 
     /// The rest pose: every joint at its rest transform.

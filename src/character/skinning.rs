@@ -33,9 +33,17 @@ pub enum SkinningModel {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SkinError {
     #[error("{what} has {got} entries for {vertices} vertices")]
-    Length { what: &'static str, got: usize, vertices: usize },
+    Length {
+        what: &'static str,
+        got: usize,
+        vertices: usize,
+    },
     #[error("vertex {vertex}: joint index {joint} is out of range (the skin has {joints} joints)")]
-    JointOutOfRange { vertex: usize, joint: usize, joints: usize },
+    JointOutOfRange {
+        vertex: usize,
+        joint: usize,
+        joints: usize,
+    },
     #[error("vertex {vertex}: weights sum to {sum}, not a positive finite number")]
     BadWeights { vertex: usize, sum: f32 },
 }
@@ -51,9 +59,17 @@ pub struct Influences {
 impl Influences {
     /// Validates and normalises. A joint index only matters (and is only
     /// checked) where its weight is non-zero, as glTF allows.
-    pub fn new(joints: Vec<[u16; 4]>, weights: Vec<[f32; 4]>, joint_count: usize) -> Result<Self, SkinError> {
+    pub fn new(
+        joints: Vec<[u16; 4]>,
+        weights: Vec<[f32; 4]>,
+        joint_count: usize,
+    ) -> Result<Self, SkinError> {
         if joints.len() != weights.len() {
-            return Err(SkinError::Length { what: "JOINTS_0", got: joints.len(), vertices: weights.len() });
+            return Err(SkinError::Length {
+                what: "JOINTS_0",
+                got: joints.len(),
+                vertices: weights.len(),
+            });
         }
         let mut out_j = Vec::with_capacity(joints.len());
         let mut out_w = Vec::with_capacity(joints.len());
@@ -67,7 +83,11 @@ impl Influences {
             for k in 0..4 {
                 if w[k] > 0.0 {
                     if j[k] as usize >= joint_count {
-                        return Err(SkinError::JointOutOfRange { vertex, joint: j[k] as usize, joints: joint_count });
+                        return Err(SkinError::JointOutOfRange {
+                            vertex,
+                            joint: j[k] as usize,
+                            joints: joint_count,
+                        });
                     }
                     jj[k] = JointId(j[k]);
                     ww[k] = w[k] / sum;
@@ -76,13 +96,19 @@ impl Influences {
             out_j.push(jj);
             out_w.push(ww);
         }
-        Ok(Self { joints: out_j, weights: out_w })
+        Ok(Self {
+            joints: out_j,
+            weights: out_w,
+        })
     }
 
     /// Every vertex bound rigidly to one joint.
     pub fn rigid(joints: &[JointId]) -> Self {
         Self {
-            joints: joints.iter().map(|&j| [j, JointId(0), JointId(0), JointId(0)]).collect(),
+            joints: joints
+                .iter()
+                .map(|&j| [j, JointId(0), JointId(0), JointId(0)])
+                .collect(),
             weights: joints.iter().map(|_| [1.0, 0.0, 0.0, 0.0]).collect(),
         }
     }
@@ -97,13 +123,19 @@ impl Influences {
 
     /// Non-zero influences of vertex `v`.
     pub fn of(&self, v: usize) -> impl Iterator<Item = (JointId, f32)> + '_ {
-        self.joints[v].iter().zip(&self.weights[v]).filter(|(_, w)| **w > 0.0).map(|(j, w)| (*j, *w))
+        self.joints[v]
+            .iter()
+            .zip(&self.weights[v])
+            .filter(|(_, w)| **w > 0.0)
+            .map(|(j, w)| (*j, *w))
     }
 
     /// The joint with the largest weight on vertex `v`.
     pub fn dominant(&self, v: usize) -> JointId {
         let w = &self.weights[v];
-        let k = (0..4).max_by(|&a, &b| w[a].total_cmp(&w[b]).then(b.cmp(&a))).unwrap();
+        let k = (0..4)
+            .max_by(|&a, &b| w[a].total_cmp(&w[b]).then(b.cmp(&a)))
+            .unwrap();
         self.joints[v][k]
     }
 
@@ -136,13 +168,25 @@ pub struct PaperBinding {
 }
 
 impl PaperBinding {
-    pub fn new(joint: Vec<JointId>, weight: Vec<f32>, skeleton: &Skeleton) -> Result<Self, SkinError> {
+    pub fn new(
+        joint: Vec<JointId>,
+        weight: Vec<f32>,
+        skeleton: &Skeleton,
+    ) -> Result<Self, SkinError> {
         if joint.len() != weight.len() {
-            return Err(SkinError::Length { what: "paper weights", got: weight.len(), vertices: joint.len() });
+            return Err(SkinError::Length {
+                what: "paper weights",
+                got: weight.len(),
+                vertices: joint.len(),
+            });
         }
         for (vertex, (j, w)) in joint.iter().zip(&weight).enumerate() {
             if j.index() >= skeleton.len() {
-                return Err(SkinError::JointOutOfRange { vertex, joint: j.index(), joints: skeleton.len() });
+                return Err(SkinError::JointOutOfRange {
+                    vertex,
+                    joint: j.index(),
+                    joints: skeleton.len(),
+                });
             }
             if !(w.is_finite() && (0.0..=1.0).contains(w)) {
                 return Err(SkinError::BadWeights { vertex, sum: *w });
@@ -217,7 +261,13 @@ impl PaperBinding {
     }
 
     /// Skins every vertex with the paper's model.
-    pub fn skin(&self, skeleton: &Skeleton, bind: &[Point], skin: &[Matrix4<f32>], out: &mut [Point]) {
+    pub fn skin(
+        &self,
+        skeleton: &Skeleton,
+        bind: &[Point],
+        skin: &[Matrix4<f32>],
+        out: &mut [Point],
+    ) {
         for (v, p) in bind.iter().enumerate() {
             let m = Self::blend(skeleton, skin, self.joint[v], self.weight[v]);
             out[v] = m.transform_point(p);
@@ -253,7 +303,8 @@ mod tests {
     fn posed(s: &Skeleton) -> Vec<Matrix4<f32>> {
         let mut local = s.rest_pose();
         local[0].translation = Vector3::new(5.0, 0.0, 0.0);
-        local[1].rotation = UnitQuaternion::from_euler_angles(0.0, 0.0, std::f32::consts::FRAC_PI_2);
+        local[1].rotation =
+            UnitQuaternion::from_euler_angles(0.0, 0.0, std::f32::consts::FRAC_PI_2);
         let mut world = vec![Matrix4::identity(); 2];
         let mut skin = vec![Matrix4::identity(); 2];
         s.world_matrices(&local, &mut world);
@@ -302,7 +353,11 @@ mod tests {
         let s = two_bones();
         let inf = Influences::new(
             vec![[0, 1, 0, 0], [1, 0, 0, 0], [0, 0, 0, 0]],
-            vec![[0.6, 0.4, 0.0, 0.0], [0.9, 0.1, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]],
+            vec![
+                [0.6, 0.4, 0.0, 0.0],
+                [0.9, 0.1, 0.0, 0.0],
+                [1.0, 0.0, 0.0, 0.0],
+            ],
             2,
         )
         .unwrap();
@@ -321,7 +376,11 @@ mod tests {
         ));
         assert!(matches!(
             Influences::new(vec![[0, 7, 0, 0]], vec![[0.5, 0.5, 0.0, 0.0]], 2),
-            Err(SkinError::JointOutOfRange { vertex: 0, joint: 7, .. })
+            Err(SkinError::JointOutOfRange {
+                vertex: 0,
+                joint: 7,
+                ..
+            })
         ));
         // A zero-weight influence may name any joint.
         assert!(Influences::new(vec![[0, 7, 0, 0]], vec![[1.0, 0.0, 0.0, 0.0]], 2).is_ok());

@@ -25,7 +25,10 @@ impl Trs {
     };
 
     pub fn from_translation(t: Vector3<f32>) -> Self {
-        Self { translation: t, ..Self::IDENTITY }
+        Self {
+            translation: t,
+            ..Self::IDENTITY
+        }
     }
 
     pub fn to_matrix(&self) -> Matrix4<f32> {

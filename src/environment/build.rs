@@ -92,7 +92,12 @@ impl Section {
 
     fn lerp(&self, o: &Self, t: f32) -> Self {
         let l = |x: f32, y: f32| x + (y - x) * t;
-        Self::new(l(self.y, o.y), l(self.a, o.a), l(self.b, o.b), l(self.p, o.p))
+        Self::new(
+            l(self.y, o.y),
+            l(self.a, o.a),
+            l(self.b, o.b),
+            l(self.p, o.p),
+        )
     }
 }
 
@@ -100,13 +105,23 @@ impl Section {
 #[derive(Clone, Debug)]
 pub(crate) enum Shape {
     /// Fixed corners and triangles (local indices): walls, floors, panes.
-    Polygon { points: Vec<Point>, triangles: Vec<[u32; 3]> },
+    Polygon {
+        points: Vec<Point>,
+        triangles: Vec<[u32; 3]>,
+    },
     /// A box of half extents `half` placed by `pose` (8 vertices, 12 triangles).
     Cuboid { pose: Isometry3<f32>, half: Vector },
     /// Sections along the local Y axis, placed by `pose`.
-    Sweep { pose: Isometry3<f32>, keys: Vec<Section> },
+    Sweep {
+        pose: Isometry3<f32>,
+        keys: Vec<Section>,
+    },
     /// A torus about the local Y axis.
-    Torus { pose: Isometry3<f32>, major: f32, minor: f32 },
+    Torus {
+        pose: Isometry3<f32>,
+        major: f32,
+        minor: f32,
+    },
 }
 
 /// A named object of a layout.
@@ -127,15 +142,34 @@ pub(crate) struct Layout {
 
 impl Layout {
     pub(crate) fn new(name: String) -> Self {
-        Self { name, objects: Vec::new() }
+        Self {
+            name,
+            objects: Vec::new(),
+        }
     }
 
     pub(crate) fn add(&mut self, name: impl Into<String>, kind: ObjectKind, shapes: Vec<Shape>) {
-        self.objects.push(ObjectSpec { name: name.into(), kind, motion: None, shapes });
+        self.objects.push(ObjectSpec {
+            name: name.into(),
+            kind,
+            motion: None,
+            shapes,
+        });
     }
 
-    pub(crate) fn add_moving(&mut self, name: impl Into<String>, kind: ObjectKind, motion: RigidMotion, shapes: Vec<Shape>) {
-        self.objects.push(ObjectSpec { name: name.into(), kind, motion: Some(motion), shapes });
+    pub(crate) fn add_moving(
+        &mut self,
+        name: impl Into<String>,
+        kind: ObjectKind,
+        motion: RigidMotion,
+        shapes: Vec<Shape>,
+    ) {
+        self.objects.push(ObjectSpec {
+            name: name.into(),
+            kind,
+            motion: Some(motion),
+            shapes,
+        });
     }
 }
 
@@ -144,12 +178,18 @@ impl Layout {
 
 /// The quad `a b c d` (in order around it) as two triangles.
 pub(crate) fn quad(a: Point, b: Point, c: Point, d: Point) -> Shape {
-    Shape::Polygon { points: vec![a, b, c, d], triangles: vec![[0, 1, 2], [0, 2, 3]] }
+    Shape::Polygon {
+        points: vec![a, b, c, d],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+    }
 }
 
 /// An axis-aligned (up to `yaw` about Y) box centred at `center`.
 pub(crate) fn cuboid(center: Point, half: Vector, yaw: f32) -> Shape {
-    Shape::Cuboid { pose: upright(center, yaw), half }
+    Shape::Cuboid {
+        pose: upright(center, yaw),
+        half,
+    }
 }
 
 /// The local axis vertical, turned by `yaw` about it, origin at `at`.
@@ -168,8 +208,9 @@ pub(crate) fn lying(at: Point, yaw: f32) -> Isometry3<f32> {
 /// The local axis along `dir` (any non-zero direction), then turned by `roll` about it.
 pub(crate) fn along(at: Point, dir: Vector, roll: f32) -> Isometry3<f32> {
     let d = dir.normalize();
-    let r = UnitQuaternion::rotation_between(&Vector::y(), &d)
-        .unwrap_or_else(|| UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f32::consts::PI));
+    let r = UnitQuaternion::rotation_between(&Vector::y(), &d).unwrap_or_else(|| {
+        UnitQuaternion::from_axis_angle(&Vector::x_axis(), std::f32::consts::PI)
+    });
     let r = r * UnitQuaternion::from_axis_angle(&Vector::y_axis(), roll);
     Isometry3::from_parts(Translation3::from(at.coords), r)
 }
@@ -205,7 +246,11 @@ pub(crate) fn capsule_keys(len: f32, a: f32, b: f32, p: f32, end: f32) -> Vec<Se
         let phi = deg.to_radians();
         let s = phi.sin();
         let y = -half + end * (1.0 - phi.cos());
-        keys.push(if deg == 0.0 { Section::new(y, 0.0, 0.0, p) } else { Section::new(y, a * s, b * s, p) });
+        keys.push(if deg == 0.0 {
+            Section::new(y, 0.0, 0.0, p)
+        } else {
+            Section::new(y, a * s, b * s, p)
+        });
     }
     keys.push(Section::new(-half + end, a, b, p));
     keys.push(Section::new(half - end, a, b, p));
@@ -213,7 +258,11 @@ pub(crate) fn capsule_keys(len: f32, a: f32, b: f32, p: f32, end: f32) -> Vec<Se
         let phi = deg.to_radians();
         let s = phi.sin();
         let y = half - end * (1.0 - phi.cos());
-        keys.push(if deg == 0.0 { Section::new(y, 0.0, 0.0, p) } else { Section::new(y, a * s, b * s, p) });
+        keys.push(if deg == 0.0 {
+            Section::new(y, 0.0, 0.0, p)
+        } else {
+            Section::new(y, a * s, b * s, p)
+        });
     }
     keys
 }
@@ -266,18 +315,30 @@ fn perimeter(s: &Section) -> f32 {
 fn superellipse(s: &Section, theta: f32) -> nalgebra::Vector2<f32> {
     let e = 2.0 / s.p;
     let (sin, cos) = theta.sin_cos();
-    nalgebra::Vector2::new(s.a * cos.signum() * cos.abs().powf(e), s.b * sin.signum() * sin.abs().powf(e))
+    nalgebra::Vector2::new(
+        s.a * cos.signum() * cos.abs().powf(e),
+        s.b * sin.signum() * sin.abs().powf(e),
+    )
 }
 
 fn ring_count(s: &Section, h: f32) -> usize {
-    if s.is_pole() { 1 } else { ((perimeter(s) / h).round() as usize).max(3) }
+    if s.is_pole() {
+        1
+    } else {
+        ((perimeter(s) / h).round() as usize).max(3)
+    }
 }
 
 /// Rings of a sweep: every key, plus enough in between that neighbouring rings
 /// are about `0.866·h` apart along the meridian.
 fn plan_sweep(keys: &[Section], h: f32) -> Vec<Ring> {
     let mut rings = Vec::new();
-    let push = |rings: &mut Vec<Ring>, s: Section| rings.push(Ring { count: ring_count(&s, h), section: s });
+    let push = |rings: &mut Vec<Ring>, s: Section| {
+        rings.push(Ring {
+            count: ring_count(&s, h),
+            section: s,
+        })
+    };
     push(&mut rings, keys[0]);
     for w in keys.windows(2) {
         let (p, q) = (w[0], w[1]);
@@ -341,7 +402,11 @@ pub(crate) fn fit(layout: &Layout, target: usize) -> Result<Environment, Environ
     const COARSEST: f32 = 1.0e3;
     let (_, min) = plan(layout, COARSEST);
     if target < min || target > MAX_VERTICES {
-        return Err(EnvironmentError::VertexCount { requested: target, min, max: MAX_VERTICES });
+        return Err(EnvironmentError::VertexCount {
+            requested: target,
+            min,
+            max: MAX_VERTICES,
+        });
     }
     // lo: too many vertices; hi: at most target.
     let mut hi = COARSEST;
@@ -350,7 +415,11 @@ pub(crate) fn fit(layout: &Layout, target: usize) -> Result<Environment, Environ
         hi = lo;
         lo *= 0.5;
         if lo < 1.0e-5 {
-            return Err(EnvironmentError::VertexCount { requested: target, min, max: MAX_VERTICES });
+            return Err(EnvironmentError::VertexCount {
+                requested: target,
+                min,
+                max: MAX_VERTICES,
+            });
         }
     }
     for _ in 0..48 {
@@ -378,7 +447,11 @@ pub(crate) fn fit(layout: &Layout, target: usize) -> Result<Environment, Environ
     }
     rings.sort_by(|x, y| y.0.cmp(&x.0).then((x.1, x.2, x.3).cmp(&(y.1, y.2, y.3))));
     if deficit > 0 && rings.is_empty() {
-        return Err(EnvironmentError::VertexCount { requested: target, min, max: MAX_VERTICES });
+        return Err(EnvironmentError::VertexCount {
+            requested: target,
+            min,
+            max: MAX_VERTICES,
+        });
     }
     while deficit > 0 {
         for &(_, o, s, r) in &rings {
@@ -406,7 +479,13 @@ fn build(layout: &Layout, plan: &Plan) -> Environment {
         for (shape, sp) in spec.shapes.iter().zip(shape_plans) {
             let base = positions.len() as u32;
             match (shape, sp) {
-                (Shape::Polygon { points, triangles: tris }, _) => {
+                (
+                    Shape::Polygon {
+                        points,
+                        triangles: tris,
+                    },
+                    _,
+                ) => {
                     positions.extend_from_slice(points);
                     triangles.extend(tris.iter().map(|t| t.map(|i| base + i)));
                 }
@@ -418,8 +497,14 @@ fn build(layout: &Layout, plan: &Plan) -> Environment {
                         positions.push(pose * Point::new(sx * half.x, sy * half.y, sz * half.z));
                     }
                     // Faces -x, +x, -y, +y, -z, +z as quads of corner bits.
-                    const FACES: [[u32; 4]; 6] =
-                        [[0, 4, 6, 2], [1, 3, 7, 5], [0, 1, 5, 4], [2, 6, 7, 3], [0, 2, 3, 1], [4, 5, 7, 6]];
+                    const FACES: [[u32; 4]; 6] = [
+                        [0, 4, 6, 2],
+                        [1, 3, 7, 5],
+                        [0, 1, 5, 4],
+                        [2, 6, 7, 3],
+                        [0, 2, 3, 1],
+                        [4, 5, 7, 6],
+                    ];
                     for f in FACES {
                         triangles.push([base + f[0], base + f[1], base + f[2]]);
                         triangles.push([base + f[0], base + f[2], base + f[3]]);
@@ -429,7 +514,15 @@ fn build(layout: &Layout, plan: &Plan) -> Environment {
                     build_sweep(pose, rings, &mut positions, &mut triangles);
                 }
                 (Shape::Torus { pose, major, minor }, ShapePlan::Torus(nu, nv)) => {
-                    build_torus(pose, *major, *minor, *nu, *nv, &mut positions, &mut triangles);
+                    build_torus(
+                        pose,
+                        *major,
+                        *minor,
+                        *nu,
+                        *nv,
+                        &mut positions,
+                        &mut triangles,
+                    );
                 }
                 _ => unreachable!("plan and layout disagree"),
             }
@@ -443,7 +536,11 @@ fn build(layout: &Layout, plan: &Plan) -> Environment {
         });
     }
     let mesh = TriMesh::new(positions, triangles).expect("generated rooms are valid meshes");
-    Environment { name: layout.name.clone(), mesh, objects }
+    Environment {
+        name: layout.name.clone(),
+        mesh,
+        objects,
+    }
 }
 
 /// `count` points spread evenly in arc length around the section, starting at
@@ -455,7 +552,9 @@ fn ring_points(s: &Section, count: usize, offset: f32, out: &mut Vec<nalgebra::V
         return;
     }
     let m = (4 * count).max(128);
-    let samples: Vec<_> = (0..=m).map(|k| superellipse(s, TAU * k as f32 / m as f32)).collect();
+    let samples: Vec<_> = (0..=m)
+        .map(|k| superellipse(s, TAU * k as f32 / m as f32))
+        .collect();
     let mut cumulative = Vec::with_capacity(m + 1);
     let mut total = 0.0;
     cumulative.push(0.0);
@@ -470,19 +569,32 @@ fn ring_points(s: &Section, count: usize, offset: f32, out: &mut Vec<nalgebra::V
             k += 1;
         }
         let span = cumulative[k + 1] - cumulative[k];
-        let t = if span > 0.0 { ((target - cumulative[k]) / span).clamp(0.0, 1.0) } else { 0.0 };
+        let t = if span > 0.0 {
+            ((target - cumulative[k]) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         out.push(samples[k] + (samples[k + 1] - samples[k]) * t);
     }
 }
 
-fn build_sweep(pose: &Isometry3<f32>, rings: &[Ring], positions: &mut Vec<Point>, triangles: &mut Vec<[u32; 3]>) {
+fn build_sweep(
+    pose: &Isometry3<f32>,
+    rings: &[Ring],
+    positions: &mut Vec<Point>,
+    triangles: &mut Vec<[u32; 3]>,
+) {
     let mut points = Vec::new();
     let mut previous: Option<(u32, usize, f32)> = None;
     for (i, ring) in rings.iter().enumerate() {
         let offset = if i % 2 == 1 { 0.5 } else { 0.0 };
         ring_points(&ring.section, ring.count, offset, &mut points);
         let start = positions.len() as u32;
-        positions.extend(points.iter().map(|q| pose * Point::new(q.x, ring.section.y, q.y)));
+        positions.extend(
+            points
+                .iter()
+                .map(|q| pose * Point::new(q.x, ring.section.y, q.y)),
+        );
         if let Some((a, na, oa)) = previous {
             zip(triangles, (a, na, oa), (start, ring.count, offset));
         }
@@ -492,7 +604,11 @@ fn build_sweep(pose: &Isometry3<f32>, rings: &[Ring], positions: &mut Vec<Point>
 
 /// Joins ring `a` to ring `b` (start index, count, offset in steps), walking
 /// both in order of arc-length fraction.
-fn zip(triangles: &mut Vec<[u32; 3]>, (a, na, oa): (u32, usize, f32), (b, nb, ob): (u32, usize, f32)) {
+fn zip(
+    triangles: &mut Vec<[u32; 3]>,
+    (a, na, oa): (u32, usize, f32),
+    (b, nb, ob): (u32, usize, f32),
+) {
     let ai = |i: usize| a + (i % na) as u32;
     let bi = |j: usize| b + (j % nb) as u32;
     if nb == 1 {

@@ -106,7 +106,12 @@ pub enum ObjectKind {
 pub enum RigidMotion {
     /// Rotation about the axis through `pivot` along `axis` by an angle that
     /// goes from 0 to `open` radians and back, `(1 - cos(2πt/period))/2·open`.
-    Hinge { pivot: Point, axis: Unit<Vector>, open: Real, period: Real },
+    Hinge {
+        pivot: Point,
+        axis: Unit<Vector>,
+        open: Real,
+        period: Real,
+    },
     /// Translation by `travel` scaled the same way.
     Slide { travel: Vector, period: Real },
 }
@@ -120,14 +125,21 @@ impl RigidMotion {
     /// Where the rest pose is moved to at time `t` (seconds).
     pub fn transform_at(&self, t: Real) -> Isometry3<Real> {
         match *self {
-            Self::Hinge { pivot, axis, open, period } => {
-                let rotation = UnitQuaternion::from_axis_angle(&axis, open * Self::phase(period, t));
+            Self::Hinge {
+                pivot,
+                axis,
+                open,
+                period,
+            } => {
+                let rotation =
+                    UnitQuaternion::from_axis_angle(&axis, open * Self::phase(period, t));
                 let shift = pivot.coords - rotation * pivot.coords;
                 Isometry3::from_parts(Translation3::from(shift), rotation)
             }
-            Self::Slide { travel, period } => {
-                Isometry3::from_parts(Translation3::from(travel * Self::phase(period, t)), UnitQuaternion::identity())
-            }
+            Self::Slide { travel, period } => Isometry3::from_parts(
+                Translation3::from(travel * Self::phase(period, t)),
+                UnitQuaternion::identity(),
+            ),
         }
     }
 
@@ -168,7 +180,13 @@ impl Environment {
     /// If `out.len()` differs from the mesh's vertex count.
     pub fn pose_at(&self, t: Real, out: &mut [Point]) {
         let rest = self.mesh.positions();
-        assert_eq!(out.len(), rest.len(), "pose_at: output has {} slots for {} vertices", out.len(), rest.len());
+        assert_eq!(
+            out.len(),
+            rest.len(),
+            "pose_at: output has {} slots for {} vertices",
+            out.len(),
+            rest.len()
+        );
         out.copy_from_slice(rest);
         for object in &self.objects {
             if let Some(motion) = &object.motion {
@@ -198,7 +216,13 @@ impl Environment {
 
     /// Vertices, triangles, big triangles at `threshold`, bounds.
     pub fn summary(&self, threshold: Real) -> Summary {
-        summary(&self.name, &self.mesh, threshold, self.objects.len(), self.moving_objects().count())
+        summary(
+            &self.name,
+            &self.mesh,
+            threshold,
+            self.objects.len(),
+            self.moving_objects().count(),
+        )
     }
 }
 
@@ -206,12 +230,19 @@ impl Environment {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum EnvironmentError {
     #[error("a room of {requested} vertices was asked for; this layout supports {min} to {max}")]
-    VertexCount { requested: usize, min: usize, max: usize },
+    VertexCount {
+        requested: usize,
+        min: usize,
+        max: usize,
+    },
 }
 
 /// Triangles whose longest edge exceeds `threshold` (the paper's "big" triangles, §4).
 pub fn big_triangles(mesh: &TriMesh, threshold: Real) -> Vec<TriangleId> {
-    mesh.iter_triangles().filter(|(_, t)| t.longest_edge() > threshold).map(|(id, _)| id).collect()
+    mesh.iter_triangles()
+        .filter(|(_, t)| t.longest_edge() > threshold)
+        .map(|(id, _)| id)
+        .collect()
 }
 
 /// Size figures of an environment.
@@ -231,7 +262,13 @@ pub struct Summary {
 }
 
 /// Size figures of `mesh` (named `name`, with the given object counts).
-pub fn summary(name: &str, mesh: &TriMesh, threshold: Real, objects: usize, moving_objects: usize) -> Summary {
+pub fn summary(
+    name: &str,
+    mesh: &TriMesh,
+    threshold: Real,
+    objects: usize,
+    moving_objects: usize,
+) -> Summary {
     let (min, max) = mesh.bounds();
     let mut big = 0;
     let mut longest: Real = 0.0;

@@ -6,8 +6,8 @@ use std::f32::consts::{FRAC_PI_2, PI};
 use nalgebra::Unit;
 
 use super::build::{
-    Layout, Section, Shape, SplitMix, along, capsule_keys, cuboid, cylinder_keys, ellipsoid_keys, fit, lathe_keys,
-    lying, quad, sweep, upright,
+    Layout, Section, Shape, SplitMix, along, capsule_keys, cuboid, cylinder_keys, ellipsoid_keys,
+    fit, lathe_keys, lying, quad, sweep, upright,
 };
 use super::{Environment, EnvironmentError, ObjectKind, RigidMotion};
 use crate::geometry::{Point, Vector};
@@ -43,13 +43,37 @@ fn layout(seed: u64) -> Layout {
     let mut rng = SplitMix::new(seed ^ 0x6D75_7365_756D);
     let mut l = Layout::new(format!("museum-seed{seed}"));
     let (w, d, h) = (WIDTH, DEPTH, HEIGHT);
-    l.add("floor", ObjectKind::Floor, vec![quad(p(0., 0., 0.), p(0., 0., d), p(w, 0., d), p(w, 0., 0.))]);
-    l.add("ceiling", ObjectKind::Ceiling, vec![quad(p(0., h, 0.), p(w, h, 0.), p(w, h, d), p(0., h, d))]);
-    l.add("south wall", ObjectKind::Wall, vec![quad(p(0., 0., 0.), p(w, 0., 0.), p(w, h, 0.), p(0., h, 0.))]);
-    l.add("north wall", ObjectKind::Wall, vec![quad(p(0., 0., d), p(0., h, d), p(w, h, d), p(w, 0., d))]);
-    l.add("east wall", ObjectKind::Wall, vec![quad(p(w, 0., 0.), p(w, 0., d), p(w, h, d), p(w, h, 0.))]);
+    l.add(
+        "floor",
+        ObjectKind::Floor,
+        vec![quad(p(0., 0., 0.), p(0., 0., d), p(w, 0., d), p(w, 0., 0.))],
+    );
+    l.add(
+        "ceiling",
+        ObjectKind::Ceiling,
+        vec![quad(p(0., h, 0.), p(w, h, 0.), p(w, h, d), p(0., h, d))],
+    );
+    l.add(
+        "south wall",
+        ObjectKind::Wall,
+        vec![quad(p(0., 0., 0.), p(w, 0., 0.), p(w, h, 0.), p(0., h, 0.))],
+    );
+    l.add(
+        "north wall",
+        ObjectKind::Wall,
+        vec![quad(p(0., 0., d), p(0., h, d), p(w, h, d), p(w, 0., d))],
+    );
+    l.add(
+        "east wall",
+        ObjectKind::Wall,
+        vec![quad(p(w, 0., 0.), p(w, 0., d), p(w, h, d), p(w, h, 0.))],
+    );
     let (z0, z1, dh) = (9.0, 10.0, 2.1);
-    l.add("west wall", ObjectKind::Wall, vec![wall_with_door(h, d, z0, z1, dh)]);
+    l.add(
+        "west wall",
+        ObjectKind::Wall,
+        vec![wall_with_door(h, d, z0, z1, dh)],
+    );
     l.add_moving("door", ObjectKind::Door, door_motion(z0), door(z0, z1, dh));
 
     // Fifteen slots: 4 glass cases, 8 pedestals with statues, 3 benches.
@@ -64,28 +88,44 @@ fn layout(seed: u64) -> Layout {
         match kind {
             0 => {
                 cases += 1;
-                l.add(format!("glass case {cases}"), ObjectKind::GlassCase, glass_case(x, z));
+                l.add(
+                    format!("glass case {cases}"),
+                    ObjectKind::GlassCase,
+                    glass_case(x, z),
+                );
                 let artefact = artefact(&mut rng, p(x, 0.9, z));
                 l.add(format!("artefact {cases}"), ObjectKind::Statue, artefact);
             }
             1 => {
                 pedestals += 1;
                 let yaw = rng.range(0.0, 2.0 * PI);
-                l.add(format!("pedestal {pedestals}"), ObjectKind::Pedestal, vec![cuboid(p(x, 0.5, z), v(0.25, 0.5, 0.25), yaw)]);
+                l.add(
+                    format!("pedestal {pedestals}"),
+                    ObjectKind::Pedestal,
+                    vec![cuboid(p(x, 0.5, z), v(0.25, 0.5, 0.25), yaw)],
+                );
                 let statue = statue(&mut rng, p(x, 1.0, z), yaw);
                 l.add(format!("statue {pedestals}"), ObjectKind::Statue, statue);
             }
             _ => {
                 benches += 1;
                 let yaw = if rng.below(2) == 0 { 0.0 } else { FRAC_PI_2 };
-                l.add(format!("bench {benches}"), ObjectKind::Bench, bench(p(x, 0.0, z), yaw));
+                l.add(
+                    format!("bench {benches}"),
+                    ObjectKind::Bench,
+                    bench(p(x, 0.0, z), yaw),
+                );
             }
         }
     }
     for (i, x) in [3.5f32, 8.0, 12.5, 17.0].into_iter().enumerate() {
         let (hw, hh) = (rng.range(0.6, 1.0), rng.range(0.45, 0.7));
         let c = p(x + rng.range(-0.4, 0.4), 2.2, d - 0.02);
-        l.add(format!("painting {}", i + 1), ObjectKind::Painting, vec![cuboid(c, v(hw, hh, 0.02), 0.0)]);
+        l.add(
+            format!("painting {}", i + 1),
+            ObjectKind::Painting,
+            vec![cuboid(c, v(hw, hh, 0.02), 0.0)],
+        );
     }
     l
 }
@@ -106,7 +146,14 @@ pub(super) fn wall_with_door(h: f32, depth: f32, z0: f32, z1: f32, door_h: f32) 
         p(0., h, depth),
     ];
     // Left of the door, above it, right of it.
-    let triangles = vec![[0, 2, 3], [0, 3, 1], [4, 5, 7], [4, 7, 3], [6, 8, 9], [6, 9, 7]];
+    let triangles = vec![
+        [0, 2, 3],
+        [0, 3, 1],
+        [4, 5, 7],
+        [4, 7, 3],
+        [6, 8, 9],
+        [6, 9, 7],
+    ];
     Shape::Polygon { points, triangles }
 }
 
@@ -117,7 +164,10 @@ pub(super) fn door(z0: f32, z1: f32, door_h: f32) -> Vec<Shape> {
     let slab = cuboid(p(0.04, 0.5 * door_h, 0.5 * (z0 + z1)), half, 0.0);
     let handle_at = p(0.06, 1.0, z1 - 0.09);
     let stem = sweep(lying(handle_at, 0.0), cylinder_keys(0.0, 0.06, 0.008));
-    let knob = sweep(along(p(0.135, 1.0, z1 - 0.09), Vector::x(), 0.0), ellipsoid_keys(0.03, 0.02, 0.03, 2.0));
+    let knob = sweep(
+        along(p(0.135, 1.0, z1 - 0.09), Vector::x(), 0.0),
+        ellipsoid_keys(0.03, 0.02, 0.03, 2.0),
+    );
     vec![slab, stem, knob]
 }
 
@@ -163,17 +213,32 @@ fn artefact(rng: &mut SplitMix, at: Point) -> Vec<Shape> {
         0 => vec![sweep(upright(at, 0.0), amphora(0.35 * s))],
         1 => {
             // A bowl with a lid knob.
-            let prof = [(0.0, 0.05 * s), (0.02 * s, 0.1 * s), (0.08 * s, 0.14 * s), (0.12 * s, 0.13 * s)];
+            let prof = [
+                (0.0, 0.05 * s),
+                (0.02 * s, 0.1 * s),
+                (0.08 * s, 0.14 * s),
+                (0.12 * s, 0.13 * s),
+            ];
             vec![
                 sweep(upright(at, 0.0), lathe_keys(&prof)),
-                sweep(upright(at + v(0., 0.15 * s, 0.), 0.0), ellipsoid_keys(0.03 * s, 0.03 * s, 0.03 * s, 2.0)),
+                sweep(
+                    upright(at + v(0., 0.15 * s, 0.), 0.0),
+                    ellipsoid_keys(0.03 * s, 0.03 * s, 0.03 * s, 2.0),
+                ),
             ]
         }
         _ => {
             // A skull-like ellipsoid on a ring stand.
             vec![
-                Shape::Torus { pose: upright(at + v(0., 0.02, 0.), 0.0), major: 0.08 * s, minor: 0.02 * s },
-                sweep(upright(at + v(0., 0.14 * s, 0.), 0.0), ellipsoid_keys(0.09 * s, 0.11 * s, 0.12 * s, 2.0)),
+                Shape::Torus {
+                    pose: upright(at + v(0., 0.02, 0.), 0.0),
+                    major: 0.08 * s,
+                    minor: 0.02 * s,
+                },
+                sweep(
+                    upright(at + v(0., 0.14 * s, 0.), 0.0),
+                    ellipsoid_keys(0.09 * s, 0.11 * s, 0.12 * s, 2.0),
+                ),
             ]
         }
     }
@@ -204,10 +269,22 @@ fn statue(rng: &mut SplitMix, at: Point, yaw: f32) -> Vec<Shape> {
             let (sn, cs) = yaw.sin_cos();
             let facing = v(sn, 0.0, cs);
             vec![
-                sweep(lying(up(0.1 * s), yaw), capsule_keys(0.44 * s, 0.1 * s, 0.12 * s, 3.0, 0.1 * s)),
-                sweep(upright(up(0.15 * s), yaw), cylinder_keys(0.0, 0.14 * s, 0.05 * s)),
-                sweep(upright(up(0.38 * s), yaw), ellipsoid_keys(0.085 * s, 0.12 * s, 0.1 * s, 2.0)),
-                sweep(along(up(0.37 * s) + facing * 0.1 * s, facing, 0.0), ellipsoid_keys(0.015 * s, 0.03 * s, 0.02 * s, 2.0)),
+                sweep(
+                    lying(up(0.1 * s), yaw),
+                    capsule_keys(0.44 * s, 0.1 * s, 0.12 * s, 3.0, 0.1 * s),
+                ),
+                sweep(
+                    upright(up(0.15 * s), yaw),
+                    cylinder_keys(0.0, 0.14 * s, 0.05 * s),
+                ),
+                sweep(
+                    upright(up(0.38 * s), yaw),
+                    ellipsoid_keys(0.085 * s, 0.12 * s, 0.1 * s, 2.0),
+                ),
+                sweep(
+                    along(up(0.37 * s) + facing * 0.1 * s, facing, 0.0),
+                    ellipsoid_keys(0.015 * s, 0.03 * s, 0.02 * s, 2.0),
+                ),
             ]
         }
         1 => {
@@ -223,7 +300,11 @@ fn statue(rng: &mut SplitMix, at: Point, yaw: f32) -> Vec<Shape> {
             let (major, minor) = (0.25 * s, 0.06 * s);
             vec![
                 cuboid(up(0.03), v(0.15, 0.03, 0.1), yaw),
-                Shape::Torus { pose: along(up(0.06 + major + minor), v(yaw.cos(), 0.0, -yaw.sin()), 0.0), major, minor },
+                Shape::Torus {
+                    pose: along(up(0.06 + major + minor), v(yaw.cos(), 0.0, -yaw.sin()), 0.0),
+                    major,
+                    minor,
+                },
             ]
         }
         3 => vec![sweep(upright(at, yaw), amphora(0.6 * s))],

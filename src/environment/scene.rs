@@ -44,7 +44,10 @@ pub fn is_degenerate(mesh: &TriMesh, t: [u32; 3]) -> bool {
     let q = |i: u32| mesh.positions()[i as usize].map(f64::from);
     let (a, b, c) = (q(t[0]), q(t[1]), q(t[2]));
     let cross = (b - a).cross(&(c - a)).norm();
-    let longest = (b - a).norm_squared().max((c - b).norm_squared()).max((a - c).norm_squared());
+    let longest = (b - a)
+        .norm_squared()
+        .max((c - b).norm_squared())
+        .max((a - c).norm_squared());
     cross <= 4.0 * f64::EPSILON * longest
 }
 
@@ -54,7 +57,10 @@ pub fn is_degenerate(mesh: &TriMesh, t: [u32; 3]) -> bool {
 /// is an error.
 pub fn load_scene(path: &Path) -> Result<(Environment, SceneReport), SceneError> {
     let (mesh, load) = load_static_mesh(path)?;
-    let mut report = SceneReport { load, ..SceneReport::default() };
+    let mut report = SceneReport {
+        load,
+        ..SceneReport::default()
+    };
     let mut kept = Vec::with_capacity(mesh.triangle_count());
     for (i, &t) in mesh.indices().iter().enumerate() {
         if is_degenerate(&mesh, t) {
@@ -67,12 +73,19 @@ pub fn load_scene(path: &Path) -> Result<(Environment, SceneReport), SceneError>
         }
     }
     if kept.is_empty() {
-        return Err(SceneError::OnlyDegenerate { path: path.to_owned(), removed: report.degenerate_removed });
+        return Err(SceneError::OnlyDegenerate {
+            path: path.to_owned(),
+            removed: report.degenerate_removed,
+        });
     }
     let triangles = kept.len() as u32;
-    let mesh = TriMesh::new(mesh.positions().to_vec(), kept)
-        .map_err(|error| SceneError::Mesh { path: path.to_owned(), error })?;
-    let name = path.file_stem().map_or_else(|| "scene".to_owned(), |s| s.to_string_lossy().into_owned());
+    let mesh = TriMesh::new(mesh.positions().to_vec(), kept).map_err(|error| SceneError::Mesh {
+        path: path.to_owned(),
+        error,
+    })?;
+    let name = path
+        .file_stem()
+        .map_or_else(|| "scene".to_owned(), |s| s.to_string_lossy().into_owned());
     let object = EnvObject {
         name: name.clone(),
         kind: ObjectKind::Scene,
@@ -80,5 +93,12 @@ pub fn load_scene(path: &Path) -> Result<(Environment, SceneReport), SceneError>
         triangles: 0..triangles,
         motion: None,
     };
-    Ok((Environment { name, mesh, objects: vec![object] }, report))
+    Ok((
+        Environment {
+            name,
+            mesh,
+            objects: vec![object],
+        },
+        report,
+    ))
 }

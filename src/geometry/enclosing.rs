@@ -109,7 +109,10 @@ struct Ball {
 
 impl Ball {
     fn from_center(c: V, support: &[&V]) -> Ball {
-        let r2 = support.iter().map(|p| (*p - c).norm_squared()).fold(0.0, f64::max);
+        let r2 = support
+            .iter()
+            .map(|p| (*p - c).norm_squared())
+            .fold(0.0, f64::max);
         Ball { c, r2 }
     }
     /// Inside, with a relative slack so that rounding on support points does not
@@ -132,7 +135,10 @@ fn ball_3(a: &V, b: &V, c: &V) -> Ball {
         Some(center) => Ball::from_center(center, &[a, b, c]),
         None => {
             let cands = [ball_2(a, b), ball_2(b, c), ball_2(a, c)];
-            cands.into_iter().max_by(|x, y| x.r2.total_cmp(&y.r2)).unwrap()
+            cands
+                .into_iter()
+                .max_by(|x, y| x.r2.total_cmp(&y.r2))
+                .unwrap()
         }
     }
 }
@@ -239,7 +245,10 @@ mod tests {
     fn brute_force_radius(points: &[Point]) -> f64 {
         let p: Vec<V> = points.iter().map(wide).collect();
         let n = p.len();
-        let all_in = |b: &Ball| p.iter().all(|q| (q - b.c).norm_squared() <= b.r2 * (1.0 + 1e-9) + 1e-12);
+        let all_in = |b: &Ball| {
+            p.iter()
+                .all(|q| (q - b.c).norm_squared() <= b.r2 * (1.0 + 1e-9) + 1e-12)
+        };
         let mut best = f64::INFINITY;
         let mut consider = |b: Ball| {
             if all_in(&b) {
@@ -307,12 +316,20 @@ mod tests {
     #[test]
     fn known_cases() {
         // Right triangle: sphere on the hypotenuse.
-        let t = Triangle::new(Point::origin(), Point::new(2.0, 0.0, 0.0), Point::new(0.0, 2.0, 0.0));
+        let t = Triangle::new(
+            Point::origin(),
+            Point::new(2.0, 0.0, 0.0),
+            Point::new(0.0, 2.0, 0.0),
+        );
         let s = triangle_sphere(&t);
         assert!((s.radius - 2f32.sqrt()).abs() < 1e-6);
         // Equilateral: circumradius side/sqrt(3).
         let h = 3f32.sqrt();
-        let t = Triangle::new(Point::new(-1.0, 0.0, 0.0), Point::new(1.0, 0.0, 0.0), Point::new(0.0, h, 0.0));
+        let t = Triangle::new(
+            Point::new(-1.0, 0.0, 0.0),
+            Point::new(1.0, 0.0, 0.0),
+            Point::new(0.0, h, 0.0),
+        );
         assert!((triangle_sphere(&t).radius - 2.0 / h).abs() < 1e-6);
         // Degenerate (all equal): zero radius.
         let p = Point::new(1.0, 2.0, 3.0);

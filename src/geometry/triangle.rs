@@ -52,6 +52,8 @@ impl Triangle {
 
     /// Whether every coordinate is finite.
     pub fn is_finite(&self) -> bool {
-        self.vertices().iter().all(|p| p.iter().all(|c| c.is_finite()))
+        self.vertices()
+            .iter()
+            .all(|p| p.iter().all(|c| c.is_finite()))
     }
 }

@@ -52,8 +52,8 @@ use nalgebra::{Matrix3, Matrix4, Quaternion, Rotation3, UnitQuaternion, Vector3}
 
 use super::gltf_accessor;
 use super::gltf_static::{
-    LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble, load_buffers, local_matrix,
-    one_line, parse_root, read_triangle_primitive, scene_roots, validate,
+    LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble, load_buffers,
+    local_matrix, one_line, parse_root, read_triangle_primitive, scene_roots, validate,
 };
 use crate::character::skinning::SkinError;
 use crate::character::{
@@ -517,8 +517,19 @@ impl CharacterLoader<'_> {
         for primitive in mesh.primitives() {
             let p = primitive.index();
             let base = positions.len();
-            let Some(TrianglePrimitive { mode, positions: stored, indices }) =
-                read_triangle_primitive(self.path, self.buffers, node, &mesh_ref, &primitive, base, &mut self.report)?
+            let Some(TrianglePrimitive {
+                mode,
+                positions: stored,
+                indices,
+            }) = read_triangle_primitive(
+                self.path,
+                self.buffers,
+                node,
+                &mesh_ref,
+                &primitive,
+                base,
+                &mut self.report,
+            )?
             else {
                 continue;
             };
@@ -579,7 +590,6 @@ impl CharacterLoader<'_> {
                 }
                 sets.push((jv, wv));
             }
-
 
             // Merge the sets: the four largest weights of each vertex.
             let remap = |j: u16| -> u16 {

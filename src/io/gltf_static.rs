@@ -592,7 +592,12 @@ pub(crate) fn read_triangle_primitive(
                 Mode::LineLoop => "LINE_LOOP",
                 _ => "LINE_STRIP",
             };
-            report.skipped.push(SkippedPrimitive { node, mesh: mesh_ref.clone(), primitive: p, mode });
+            report.skipped.push(SkippedPrimitive {
+                node,
+                mesh: mesh_ref.clone(),
+                primitive: p,
+                mode,
+            });
             return Ok(None);
         }
     };
@@ -603,24 +608,45 @@ pub(crate) fn read_triangle_primitive(
         accessor,
         reason: one_line(&reason),
     };
-    let position_accessor = primitive.get(&Semantic::Positions).ok_or_else(|| LoadError::MissingPosition {
-        path: path.to_owned(),
-        mesh: mesh_ref.clone(),
-        primitive: p,
-    })?;
+    let position_accessor =
+        primitive
+            .get(&Semantic::Positions)
+            .ok_or_else(|| LoadError::MissingPosition {
+                path: path.to_owned(),
+                mesh: mesh_ref.clone(),
+                primitive: p,
+            })?;
     let stored = gltf_accessor::read_positions(&position_accessor, buffers)
         .map_err(|reason| accessor_error(position_accessor.index(), reason))?;
-    if let Some((vertex, &[x, y, z])) = stored.iter().enumerate().find(|(_, v)| !v.iter().all(|c| c.is_finite())) {
-        return Err(LoadError::NonFinitePosition { path: path.to_owned(), mesh: mesh_ref.clone(), primitive: p, vertex, x, y, z });
+    if let Some((vertex, &[x, y, z])) = stored
+        .iter()
+        .enumerate()
+        .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
+    {
+        return Err(LoadError::NonFinitePosition {
+            path: path.to_owned(),
+            mesh: mesh_ref.clone(),
+            primitive: p,
+            vertex,
+            x,
+            y,
+            z,
+        });
     }
     if vertices_before + stored.len() > u32::MAX as usize {
-        return Err(LoadError::TooLarge { path: path.to_owned() });
+        return Err(LoadError::TooLarge {
+            path: path.to_owned(),
+        });
     }
     let indices = match primitive.indices() {
         Some(accessor) => {
             let indices = gltf_accessor::read_indices(&accessor, buffers)
                 .map_err(|reason| accessor_error(accessor.index(), reason))?;
-            if let Some((entry, &index)) = indices.iter().enumerate().find(|(_, i)| **i as usize >= stored.len()) {
+            if let Some((entry, &index)) = indices
+                .iter()
+                .enumerate()
+                .find(|(_, i)| **i as usize >= stored.len())
+            {
                 return Err(LoadError::IndexOutOfRange {
                     path: path.to_owned(),
                     mesh: mesh_ref.clone(),
@@ -642,7 +668,11 @@ pub(crate) fn read_triangle_primitive(
             "node {node}, mesh {mesh_ref} primitive {p}: {targets} morph target(s) ignored, positions as stored"
         ));
     }
-    Ok(Some(TrianglePrimitive { mode, positions: stored, indices }))
+    Ok(Some(TrianglePrimitive {
+        mode,
+        positions: stored,
+        indices,
+    }))
 }
 
 struct Loader<'a> {
@@ -726,8 +756,19 @@ impl Loader<'_> {
         for primitive in mesh.primitives() {
             let p = primitive.index();
             let base = self.positions.len();
-            let Some(TrianglePrimitive { mode, positions: stored, indices }) =
-                read_triangle_primitive(self.path, self.buffers, node, &mesh_ref, &primitive, base, &mut self.report)?
+            let Some(TrianglePrimitive {
+                mode,
+                positions: stored,
+                indices,
+            }) = read_triangle_primitive(
+                self.path,
+                self.buffers,
+                node,
+                &mesh_ref,
+                &primitive,
+                base,
+                &mut self.report,
+            )?
             else {
                 continue;
             };

@@ -13,5 +13,7 @@ pub mod gltf_static;
 pub mod source;
 
 pub use gltf_character::load_character;
-pub use gltf_static::{LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive, load_static_mesh};
+pub use gltf_static::{
+    LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive, load_static_mesh,
+};
 pub use source::{CharacterSource, SourceError};

@@ -24,7 +24,11 @@ pub enum SourceError {
     #[error("{spec:?}: unknown parameter {key:?}; generated:humanoid takes vertices and seed")]
     UnknownParameter { spec: String, key: String },
     #[error("{spec:?}: parameter {key} = {value:?} is not a whole number")]
-    BadNumber { spec: String, key: String, value: String },
+    BadNumber {
+        spec: String,
+        key: String,
+        value: String,
+    },
 }
 
 impl FromStr for CharacterSource {
@@ -36,22 +40,32 @@ impl FromStr for CharacterSource {
         };
         let (name, query) = rest.split_once('?').unwrap_or((rest, ""));
         if name != "humanoid" {
-            return Err(SourceError::UnknownGenerator { spec: spec.into(), name: name.into() });
+            return Err(SourceError::UnknownGenerator {
+                spec: spec.into(),
+                name: name.into(),
+            });
         }
         let mut p = HumanoidParams::default();
         for pair in query.split('&').filter(|s| !s.is_empty()) {
             let (key, value) = pair.split_once('=').unwrap_or((pair, ""));
             let number = |v: &str| {
-                v.replace('_', "").parse::<u64>().map_err(|_| SourceError::BadNumber {
-                    spec: spec.into(),
-                    key: key.into(),
-                    value: v.into(),
-                })
+                v.replace('_', "")
+                    .parse::<u64>()
+                    .map_err(|_| SourceError::BadNumber {
+                        spec: spec.into(),
+                        key: key.into(),
+                        value: v.into(),
+                    })
             };
             match key {
                 "vertices" => p.vertices = number(value)? as usize,
                 "seed" => p.seed = number(value)?,
-                _ => return Err(SourceError::UnknownParameter { spec: spec.into(), key: key.into() }),
+                _ => {
+                    return Err(SourceError::UnknownParameter {
+                        spec: spec.into(),
+                        key: key.into(),
+                    });
+                }
             }
         }
         Ok(CharacterSource::Humanoid(p))
@@ -62,7 +76,11 @@ impl fmt::Display for CharacterSource {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             CharacterSource::File(p) => write!(f, "{}", p.display()),
-            CharacterSource::Humanoid(h) => write!(f, "{GENERATED}humanoid?vertices={}&seed={}", h.vertices, h.seed),
+            CharacterSource::Humanoid(h) => write!(
+                f,
+                "{GENERATED}humanoid?vertices={}&seed={}",
+                h.vertices, h.seed
+            ),
         }
     }
 }
@@ -73,16 +91,34 @@ mod tests {
 
     #[test]
     fn parses_sources() {
-        assert_eq!("a/b.glb".parse(), Ok(CharacterSource::File("a/b.glb".into())));
+        assert_eq!(
+            "a/b.glb".parse(),
+            Ok(CharacterSource::File("a/b.glb".into()))
+        );
         let h: CharacterSource = "generated:humanoid?vertices=10_000&seed=3".parse().unwrap();
-        assert_eq!(h, CharacterSource::Humanoid(HumanoidParams { vertices: 10_000, seed: 3 }));
+        assert_eq!(
+            h,
+            CharacterSource::Humanoid(HumanoidParams {
+                vertices: 10_000,
+                seed: 3
+            })
+        );
         assert_eq!(h.to_string(), "generated:humanoid?vertices=10000&seed=3");
         assert_eq!(
             "generated:humanoid".parse::<CharacterSource>(),
             Ok(CharacterSource::Humanoid(HumanoidParams::default()))
         );
-        assert!(matches!("generated:robot".parse::<CharacterSource>(), Err(SourceError::UnknownGenerator { .. })));
-        assert!(matches!("generated:humanoid?legs=3".parse::<CharacterSource>(), Err(SourceError::UnknownParameter { .. })));
-        assert!(matches!("generated:humanoid?vertices=lots".parse::<CharacterSource>(), Err(SourceError::BadNumber { .. })));
+        assert!(matches!(
+            "generated:robot".parse::<CharacterSource>(),
+            Err(SourceError::UnknownGenerator { .. })
+        ));
+        assert!(matches!(
+            "generated:humanoid?legs=3".parse::<CharacterSource>(),
+            Err(SourceError::UnknownParameter { .. })
+        ));
+        assert!(matches!(
+            "generated:humanoid?vertices=lots".parse::<CharacterSource>(),
+            Err(SourceError::BadNumber { .. })
+        ));
     }
 }

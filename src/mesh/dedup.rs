@@ -35,7 +35,10 @@ pub struct EdgeDedup {
 impl EdgeDedup {
     /// Keep every triangle (de-duplication off).
     pub fn keep_all(mesh: &TriMesh) -> Self {
-        Self { kept: vec![true; mesh.triangle_count()], kept_count: mesh.triangle_count() }
+        Self {
+            kept: vec![true; mesh.triangle_count()],
+            kept_count: mesh.triangle_count(),
+        }
     }
 
     pub fn is_kept(&self, id: TriangleId) -> bool {
@@ -52,7 +55,11 @@ impl EdgeDedup {
 
     /// Fraction of triangles left out, in `[0, 1]`.
     pub fn reduction(&self) -> f64 {
-        if self.kept.is_empty() { 0.0 } else { self.dropped_count() as f64 / self.kept.len() as f64 }
+        if self.kept.is_empty() {
+            0.0
+        } else {
+            self.dropped_count() as f64 / self.kept.len() as f64
+        }
     }
 
     pub fn kept(&self) -> impl Iterator<Item = TriangleId> + '_ {
@@ -93,9 +100,14 @@ type Edge = (u32, u32);
 /// welded-equal vertices, are not edges and are left out).
 pub fn triangle_edges(welded: &[u32], tri: &[u32; 3]) -> impl Iterator<Item = Edge> {
     let v = tri.map(|i| welded[i as usize]);
-    let e = [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])].map(|(a, b)| (a != b).then(|| (a.min(b), a.max(b))));
+    let e = [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])]
+        .map(|(a, b)| (a != b).then(|| (a.min(b), a.max(b))));
     // A repeated vertex makes two of the three edges the same edge.
-    let distinct = [e[0], e[1].filter(|x| Some(*x) != e[0]), e[2].filter(|x| Some(*x) != e[0] && Some(*x) != e[1])];
+    let distinct = [
+        e[0],
+        e[1].filter(|x| Some(*x) != e[0]),
+        e[2].filter(|x| Some(*x) != e[0] && Some(*x) != e[1]),
+    ];
     distinct.into_iter().flatten()
 }
 
@@ -151,7 +163,11 @@ mod tests {
     /// edges of kept triangles.
     fn assert_edges_covered(mesh: &TriMesh, d: &EdgeDedup) {
         let w = weld_positions(mesh);
-        let all: HashSet<Edge> = mesh.indices().iter().flat_map(|t| triangle_edges(&w, t)).collect();
+        let all: HashSet<Edge> = mesh
+            .indices()
+            .iter()
+            .flat_map(|t| triangle_edges(&w, t))
+            .collect();
         let kept: HashSet<Edge> = d
             .kept()
             .flat_map(|id| triangle_edges(&w, &mesh.indices()[id.index()]))
@@ -166,9 +182,14 @@ mod tests {
             .collect();
         let at = |i: u32, j: u32| j * (n + 1) + i;
         let t = (0..n)
-            .flat_map(|j| (0..n).flat_map(move |i| {
-                [[at(i, j), at(i + 1, j), at(i + 1, j + 1)], [at(i, j), at(i + 1, j + 1), at(i, j + 1)]]
-            }))
+            .flat_map(|j| {
+                (0..n).flat_map(move |i| {
+                    [
+                        [at(i, j), at(i + 1, j), at(i + 1, j + 1)],
+                        [at(i, j), at(i + 1, j + 1), at(i, j + 1)],
+                    ]
+                })
+            })
             .collect();
         TriMesh::new(p, t).unwrap()
     }
@@ -197,7 +218,11 @@ mod tests {
         assert_edges_covered(&m, &d);
         // Lower bound: each kept triangle covers at most 3 edges.
         let w = weld_positions(&m);
-        let edges: HashSet<Edge> = m.indices().iter().flat_map(|t| triangle_edges(&w, t)).collect();
+        let edges: HashSet<Edge> = m
+            .indices()
+            .iter()
+            .flat_map(|t| triangle_edges(&w, t))
+            .collect();
         assert!(d.kept_count() * 3 >= edges.len());
         assert!(d.reduction() > 0.25, "reduction {}", d.reduction());
     }

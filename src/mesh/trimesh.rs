@@ -19,9 +19,20 @@ pub enum MeshError {
     #[error("mesh has no triangles")]
     NoTriangles,
     #[error("vertex {vertex} has a non-finite position ({x}, {y}, {z})")]
-    NonFinitePosition { vertex: usize, x: f32, y: f32, z: f32 },
-    #[error("triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices")]
-    IndexOutOfRange { triangle: usize, index: u32, vertex_count: usize },
+    NonFinitePosition {
+        vertex: usize,
+        x: f32,
+        y: f32,
+        z: f32,
+    },
+    #[error(
+        "triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices"
+    )]
+    IndexOutOfRange {
+        triangle: usize,
+        index: u32,
+        vertex_count: usize,
+    },
     #[error("mesh has {0} triangles; at most 2^32 - 1 are supported")]
     TooManyTriangles(usize),
 }
@@ -48,7 +59,12 @@ impl TriMesh {
             .enumerate()
             .find(|(_, p)| !p.iter().all(|c| c.is_finite()))
         {
-            return Err(MeshError::NonFinitePosition { vertex, x: p.x, y: p.y, z: p.z });
+            return Err(MeshError::NonFinitePosition {
+                vertex,
+                x: p.x,
+                y: p.y,
+                z: p.z,
+            });
         }
         for (triangle, tri) in triangles.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&i| i as usize >= positions.len()) {
@@ -59,7 +75,10 @@ impl TriMesh {
                 });
             }
         }
-        Ok(Self { positions, triangles })
+        Ok(Self {
+            positions,
+            triangles,
+        })
     }
 
     pub fn positions(&self) -> &[Point] {
@@ -126,11 +145,19 @@ mod tests {
 
     #[test]
     fn rejects_bad_input() {
-        let p = vec![Point::origin(), Point::new(1.0, 0.0, 0.0), Point::new(0.0, 1.0, 0.0)];
+        let p = vec![
+            Point::origin(),
+            Point::new(1.0, 0.0, 0.0),
+            Point::new(0.0, 1.0, 0.0),
+        ];
         assert_eq!(TriMesh::new(p.clone(), vec![]), Err(MeshError::NoTriangles));
         assert_eq!(
             TriMesh::new(p.clone(), vec![[0, 1, 3]]),
-            Err(MeshError::IndexOutOfRange { triangle: 0, index: 3, vertex_count: 3 })
+            Err(MeshError::IndexOutOfRange {
+                triangle: 0,
+                index: 3,
+                vertex_count: 3
+            })
         );
         let mut q = p.clone();
         q[1].y = f32::NAN;

@@ -61,7 +61,9 @@ impl FrameTime {
 impl FrameCounters {
     /// Basic operations in the paper's model: `10·SS + 96·TT + 30·PS` (§6).
     pub fn operations(&self) -> u64 {
-        ops::SPHERE_SPHERE * self.sphere_sphere + ops::TRI_TRI * self.tri_tri + ops::PLANE_SPHERE * self.plane_sphere
+        ops::SPHERE_SPHERE * self.sphere_sphere
+            + ops::TRI_TRI * self.tri_tri
+            + ops::PLANE_SPHERE * self.plane_sphere
     }
 }
 
@@ -132,10 +134,21 @@ fn ticks() -> u64 {
 
 impl Pipeline {
     /// Builds the character's and the environment's hierarchies for `method`.
-    pub fn new(character: &Character, environment: &TriMesh, method: Method, options: PipelineOptions) -> Self {
-        let dedup = if options.dedup { dedup_edges(&character.mesh) } else { EdgeDedup::keep_all(&character.mesh) };
-        let character_tree = CharacterTree::build(character, &dedup, options.skinning, options.build);
-        let environment = EnvironmentTree::build(environment, method, options.threshold, options.build);
+    pub fn new(
+        character: &Character,
+        environment: &TriMesh,
+        method: Method,
+        options: PipelineOptions,
+    ) -> Self {
+        let dedup = if options.dedup {
+            dedup_edges(&character.mesh)
+        } else {
+            EdgeDedup::keep_all(&character.mesh)
+        };
+        let character_tree =
+            CharacterTree::build(character, &dedup, options.skinning, options.build);
+        let environment =
+            EnvironmentTree::build(environment, method, options.threshold, options.build);
         let refit = RefitState::new(&character_tree, character.skeleton.len());
         Self {
             method,
@@ -163,19 +176,34 @@ impl Pipeline {
     /// (`buffers`), against the environment triangles `env` (positions may
     /// differ from the build pose only for static content; moving objects are
     /// not re-fit here). `base` is the placed skeleton base.
-    pub fn detect(&mut self, buffers: &PoseBuffers, base: &Matrix4<f32>, character: &TriMesh, env: &TriMesh) -> FrameCounters {
+    pub fn detect(
+        &mut self,
+        buffers: &PoseBuffers,
+        base: &Matrix4<f32>,
+        character: &TriMesh,
+        env: &TriMesh,
+    ) -> FrameCounters {
         let mut c = FrameCounters::default();
         self.refit.begin_frame_with_base(&buffers.skin, base);
         let t0 = Instant::now();
         let tick0 = ticks();
         let mut od = TimedRefit {
-            refitter: Refitter { tree: &self.character_tree, skin: &buffers.skin, state: &mut self.refit },
+            refitter: Refitter {
+                tree: &self.character_tree,
+                skin: &buffers.skin,
+                state: &mut self.refit,
+            },
             base: *base,
             ticks: 0,
         };
         self.leaf_pairs.clear();
         let leaf_pairs = &mut self.leaf_pairs;
-        let stats = traverse(&mut od, &mut self.environment.tree, &mut self.workspace, |p| leaf_pairs.push(p));
+        let stats = traverse(
+            &mut od,
+            &mut self.environment.tree,
+            &mut self.workspace,
+            |p| leaf_pairs.push(p),
+        );
         let refit_ticks = od.ticks;
         let elapsed = t0.elapsed().as_secs_f64() * 1e3;
         let total_ticks = ticks().wrapping_sub(tick0).max(1);
@@ -190,13 +218,19 @@ impl Pipeline {
         let positions = &buffers.positions;
         for p in &self.leaf_pairs {
             let et = env.triangle(TriangleId(p.primitive_b));
-            let hit = if self.environment.is_division_leaf(p.leaf_b) && self.method.big_leaf_test() == LeafTest::PlaneSphere {
+            let hit = if self.environment.is_division_leaf(p.leaf_b)
+                && self.method.big_leaf_test() == LeafTest::PlaneSphere
+            {
                 c.plane_sphere += 1;
                 sphere_meets_plane(&self.refit.spheres[p.leaf_a.index()], &et)
             } else {
                 c.tri_tri += 1;
                 let [a, b, cc] = character.indices()[p.primitive_a as usize];
-                let ct = crate::geometry::Triangle::new(positions[a as usize], positions[b as usize], positions[cc as usize]);
+                let ct = crate::geometry::Triangle::new(
+                    positions[a as usize],
+                    positions[b as usize],
+                    positions[cc as usize],
+                );
                 triangles_intersect(&ct, &et)
             };
             if hit {
@@ -228,5 +262,8 @@ pub fn pose_frame(
     buffers.pose(character, clip, t);
     buffers.place(placement);
     buffers.skin_all(character, model);
-    (placement * character.skeleton.base(), t0.elapsed().as_secs_f64() * 1e3)
+    (
+        placement * character.skeleton.base(),
+        t0.elapsed().as_secs_f64() * 1e3,
+    )
 }

@@ -56,17 +56,34 @@ impl EnvironmentTree {
     pub fn build(mesh: &TriMesh, method: Method, threshold: Real, params: BuildParams) -> Self {
         let all: Vec<TriangleId> = (0..mesh.triangle_count() as u32).map(TriangleId).collect();
         let base = build_tree(mesh, &all, params);
-        let big: Vec<bool> = all.iter().map(|&t| mesh.triangle(t).longest_edge() > threshold).collect();
+        let big: Vec<bool> = all
+            .iter()
+            .map(|&t| mesh.triangle(t).longest_edge() > threshold)
+            .collect();
         let Some(kind) = method.division() else {
             let n = base.len();
-            return Self { method, threshold, tree: base, divisions: vec![], division_node: vec![None; n], big, capped: false };
+            return Self {
+                method,
+                threshold,
+                tree: base,
+                divisions: vec![],
+                division_node: vec![None; n],
+                big,
+                capped: false,
+            };
         };
         let mut divisions = Vec::new();
         let mut division_of = vec![u32::MAX; mesh.triangle_count()];
         for &t in &all {
             if big[t.index()] {
                 division_of[t.index()] = divisions.len() as u32;
-                divisions.push(Division::build(&mesh.triangle(t), t, kind, threshold, MAX_LEVELS));
+                divisions.push(Division::build(
+                    &mesh.triangle(t),
+                    t,
+                    kind,
+                    threshold,
+                    MAX_LEVELS,
+                ));
             }
         }
         let capped = divisions.iter().any(|d| d.capped);
@@ -85,7 +102,10 @@ impl EnvironmentTree {
                     match n.primitive() {
                         Some(p) if division_of[p as usize] != u32::MAX => {
                             let d = division_of[p as usize];
-                            (*divisions[d as usize].tree.node(NodeId::ROOT), From::Div(d, 0))
+                            (
+                                *divisions[d as usize].tree.node(NodeId::ROOT),
+                                From::Div(d, 0),
+                            )
                         }
                         _ => (n, f),
                     }
@@ -94,7 +114,8 @@ impl EnvironmentTree {
             }
         };
         let mut order = vec![From::Base(0)];
-        let mut nodes = Vec::with_capacity(base.len() + divisions.iter().map(|d| d.tree.len()).sum::<usize>());
+        let mut nodes =
+            Vec::with_capacity(base.len() + divisions.iter().map(|d| d.tree.len()).sum::<usize>());
         let mut division_node = Vec::with_capacity(nodes.capacity());
         let mut i = 0;
         while i < order.len() {
@@ -117,7 +138,15 @@ impl EnvironmentTree {
             }
             i += 1;
         }
-        Self { method, threshold, tree: SphereTree::from_nodes(nodes), divisions, division_node, big, capped }
+        Self {
+            method,
+            threshold,
+            tree: SphereTree::from_nodes(nodes),
+            divisions,
+            division_node,
+            big,
+            capped,
+        }
     }
 
     /// Whether node `id` is a leaf of a big triangle's division.

@@ -7,7 +7,19 @@ use serde::{Deserialize, Serialize};
 use crate::big_triangle::DivisionKind;
 
 /// How the environment's big triangles are handled.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(
+    Clone,
+    Copy,
+    Debug,
+    PartialEq,
+    Eq,
+    Hash,
+    PartialOrd,
+    Ord,
+    Serialize,
+    Deserialize,
+    clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
     /// Every environment triangle is one leaf; triangle-triangle tests (§3).
@@ -34,8 +46,12 @@ pub enum LeafTest {
 }
 
 impl Method {
-    pub const ALL: [Method; 4] =
-        [Method::Original, Method::SphereDivision, Method::PlaneSphere, Method::QuaternaryPlaneSphere];
+    pub const ALL: [Method; 4] = [
+        Method::Original,
+        Method::SphereDivision,
+        Method::PlaneSphere,
+        Method::QuaternaryPlaneSphere,
+    ];
 
     /// The hierarchy built inside big triangles, if any.
     pub fn division(self) -> Option<DivisionKind> {

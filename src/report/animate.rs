@@ -83,9 +83,16 @@ pub struct RefitReport {
 }
 
 /// Plays the clip and measures (see the module doc).
-pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitReport, UnknownClip> {
+pub fn animate(
+    character: &Character,
+    options: &AnimateOptions,
+) -> Result<RefitReport, UnknownClip> {
     let clip = character.clip(options.clip.as_deref())?;
-    let dedup = if options.dedup { dedup_edges(&character.mesh) } else { EdgeDedup::keep_all(&character.mesh) };
+    let dedup = if options.dedup {
+        dedup_edges(&character.mesh)
+    } else {
+        EdgeDedup::keep_all(&character.mesh)
+    };
     let ct = CharacterTree::build(character, &dedup, options.model, options.build);
     let sets = VertexSets::new(&ct.tree, &character.mesh);
     let size = character.mesh.size() as f64;
@@ -138,12 +145,24 @@ pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitR
 
         let t0 = Instant::now();
         state.begin_frame(&character.skeleton, &buffers.skin);
-        Refitter { tree: &ct, skin: &buffers.skin, state: &mut state }.refit_all(&base);
+        Refitter {
+            tree: &ct,
+            skin: &buffers.skin,
+            state: &mut state,
+        }
+        .refit_all(&base);
         r.full_refit_ms_per_frame += ms(t0);
 
         let t0 = Instant::now();
         lazy.begin_frame(&character.skeleton, &buffers.skin);
-        let mut od = OnDemand { refitter: Refitter { tree: &ct, skin: &buffers.skin, state: &mut lazy }, base };
+        let mut od = OnDemand {
+            refitter: Refitter {
+                tree: &ct,
+                skin: &buffers.skin,
+                state: &mut lazy,
+            },
+            base,
+        };
         traverse(&mut od, &mut floor, &mut ws, |_| {});
         r.on_demand_ms_per_frame += ms(t0);
         r.on_demand_refits_mean += lazy.refits as f64;
@@ -179,7 +198,11 @@ pub fn animate(character: &Character, options: &AnimateOptions) -> Result<RefitR
     r.on_demand_ms_per_frame /= f;
     r.on_demand_refits_mean /= f;
     r.rebuild_ms_per_frame /= r.sampled_frames.max(1) as f64;
-    r.tightness_mean = if tight_n > 0 { tight_sum / tight_n as f64 } else { 0.0 };
+    r.tightness_mean = if tight_n > 0 {
+        tight_sum / tight_n as f64
+    } else {
+        0.0
+    };
     Ok(r)
 }
 
@@ -205,7 +228,11 @@ fn floor_under(positions: &[Point], size: f32) -> SphereTree {
     let mut p = Vec::with_capacity(((n + 1) * (n + 1)) as usize);
     for j in 0..=n {
         for i in 0..=n {
-            p.push(Point::new(cx - half + i as f32 * step, y, cz - half + j as f32 * step));
+            p.push(Point::new(
+                cx - half + i as f32 * step,
+                y,
+                cz - half + j as f32 * step,
+            ));
         }
     }
     let at = |i: u32, j: u32| j * (n + 1) + i;

@@ -44,7 +44,10 @@ pub struct InspectOptions {
 
 impl Default for InspectOptions {
     fn default() -> Self {
-        Self { dedup: true, build: BuildParams::default() }
+        Self {
+            dedup: true,
+            build: BuildParams::default(),
+        }
     }
 }
 
@@ -55,10 +58,21 @@ pub fn inspect_mesh(
     mesh: &TriMesh,
     options: InspectOptions,
 ) -> Result<(InspectReport, SphereTree), TreeError> {
-    let dedup = if options.dedup { dedup_edges(mesh) } else { EdgeDedup::keep_all(mesh) };
+    let dedup = if options.dedup {
+        dedup_edges(mesh)
+    } else {
+        EdgeDedup::keep_all(mesh)
+    };
     let kept: Vec<TriangleId> = dedup.kept().collect();
     let tree = build_tree(mesh, &kept, options.build);
-    tree.validate(mesh, Checks { triangles: Some(&kept), nested: true, tolerance: 0.0 })?;
+    tree.validate(
+        mesh,
+        Checks {
+            triangles: Some(&kept),
+            nested: true,
+            tolerance: 0.0,
+        },
+    )?;
     let levels = tree.nodes_per_level();
     let inner = tree.len() - tree.leaf_count();
     let report = InspectReport {
@@ -72,7 +86,11 @@ pub fn inspect_mesh(
         tree_nodes: tree.len(),
         tree_leaves: tree.leaf_count(),
         tree_bytes: tree.bytes(),
-        mean_branching: if inner == 0 { 0.0 } else { (tree.len() - 1) as f64 / inner as f64 },
+        mean_branching: if inner == 0 {
+            0.0
+        } else {
+            (tree.len() - 1) as f64 / inner as f64
+        },
         tree_levels: levels,
         model_size: mesh.size(),
         valid: true,
@@ -93,7 +111,11 @@ impl fmt::Display for InspectReport {
                 100.0 * self.dedup_reduction
             )?;
         } else {
-            writeln!(f, "  after edge dedup (§4)  {:>10}   (de-duplication off)", self.triangles_after_dedup)?;
+            writeln!(
+                f,
+                "  after edge dedup (§4)  {:>10}   (de-duplication off)",
+                self.triangles_after_dedup
+            )?;
         }
         writeln!(f, "  model size (diagonal)  {:>10.4}", self.model_size)?;
         writeln!(
@@ -106,7 +128,11 @@ impl fmt::Display for InspectReport {
             self.collapse_ratio
         )?;
         writeln!(f, "  tree bytes             {:>10}", self.tree_bytes)?;
-        writeln!(f, "  validator              {:>10}", if self.valid { "passed" } else { "FAILED" })?;
+        writeln!(
+            f,
+            "  validator              {:>10}",
+            if self.valid { "passed" } else { "FAILED" }
+        )?;
         writeln!(f, "  nodes per level (root first):")?;
         for (i, n) in self.tree_levels.iter().enumerate() {
             writeln!(f, "    {:>3} {:>10}", i + 1, n)?;

@@ -71,7 +71,10 @@ fn stat(values: impl Iterator<Item = f64>) -> Stat {
         sum += v;
         n += 1;
     }
-    Stat { max, mean: if n == 0 { 0.0 } else { sum / n as f64 } }
+    Stat {
+        max,
+        mean: if n == 0 { 0.0 } else { sum / n as f64 },
+    }
 }
 
 /// The summary row of one method.
@@ -119,7 +122,10 @@ impl fmt::Display for SummaryTable<'_> {
             write!(f, "{:>26}", m.method.name())?;
         }
         writeln!(f)?;
-        let row = |f: &mut fmt::Formatter<'_>, label: &str, get: &dyn Fn(&Summary) -> String| -> fmt::Result {
+        let row = |f: &mut fmt::Formatter<'_>,
+                   label: &str,
+                   get: &dyn Fn(&Summary) -> String|
+         -> fmt::Result {
             write!(f, "{label:<28}")?;
             for m in s {
                 write!(f, "{:>26}", get(m))?;
@@ -127,14 +133,20 @@ impl fmt::Display for SummaryTable<'_> {
             writeln!(f)
         };
         let mm = |x: Stat| format!("{:.0} / {:.0}", x.max, x.mean);
-        row(f, "Data (hierarchies)", &|m| format!("{:.2} MiB", m.hierarchy_bytes as f64 / 1048576.0))?;
+        row(f, "Data (hierarchies)", &|m| {
+            format!("{:.2} MiB", m.hierarchy_bytes as f64 / 1048576.0)
+        })?;
         row(f, "Sph-Sph tests (max / mean)", &|m| mm(m.sphere_sphere))?;
         row(f, "Tri-Tri tests (max / mean)", &|m| mm(m.tri_tri))?;
         row(f, "Pla-Sph tests (max / mean)", &|m| mm(m.plane_sphere))?;
         row(f, "Operations (max / mean)", &|m| mm(m.operations))?;
         row(f, "Refits (max / mean)", &|m| mm(m.refits))?;
-        row(f, "Frame ms (max / mean)", &|m| format!("{:.3} / {:.3}", m.time_ms.max, m.time_ms.mean))?;
-        row(f, "Frames with contact", &|m| format!("{} of {}", m.frames_with_contact, m.frames))?;
+        row(f, "Frame ms (max / mean)", &|m| {
+            format!("{:.3} / {:.3}", m.time_ms.max, m.time_ms.mean)
+        })?;
+        row(f, "Frames with contact", &|m| {
+            format!("{} of {}", m.frames_with_contact, m.frames)
+        })?;
         Ok(())
     }
 }

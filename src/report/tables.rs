@@ -55,7 +55,11 @@ pub struct TablesReport {
 
 /// Table 1 over the room's largest triangle, then every method's hierarchy
 /// for every room, at `threshold`.
-pub fn tables(rooms: &[(&str, &Environment)], threshold: Real, params: BuildParams) -> TablesReport {
+pub fn tables(
+    rooms: &[(&str, &Environment)],
+    threshold: Real,
+    params: BuildParams,
+) -> TablesReport {
     let (name, first) = rooms[0];
     let (id, t) = first
         .mesh
@@ -64,7 +68,11 @@ pub fn tables(rooms: &[(&str, &Environment)], threshold: Real, params: BuildPara
         .expect("rooms have triangles");
     let (corner_tree, quaternary) = table1(&t, 7);
     let table1 = Table1 {
-        triangle: format!("{name} triangle {} (longest edge {:.2} m)", id.0, t.longest_edge()),
+        triangle: format!(
+            "{name} triangle {} (longest edge {:.2} m)",
+            id.0,
+            t.longest_edge()
+        ),
         corner_tree,
         quaternary,
     };
@@ -76,10 +84,22 @@ pub fn tables(rooms: &[(&str, &Environment)], threshold: Real, params: BuildPara
                 .map(|&m| {
                     let et = EnvironmentTree::build(&env.mesh, m, threshold, params);
                     let division_nodes = et.division_node.iter().filter(|d| d.is_some()).count();
-                    (m.name().to_string(), MethodCost { nodes: et.tree.len(), bytes: et.bytes(), division_nodes, capped: et.capped })
+                    (
+                        m.name().to_string(),
+                        MethodCost {
+                            nodes: et.tree.len(),
+                            bytes: et.bytes(),
+                            division_nodes,
+                            capped: et.capped,
+                        },
+                    )
                 })
                 .collect();
-            let big = env.mesh.iter_triangles().filter(|(_, t)| t.longest_edge() > threshold).count();
+            let big = env
+                .mesh
+                .iter_triangles()
+                .filter(|(_, t)| t.longest_edge() > threshold)
+                .count();
             (
                 name.to_string(),
                 EnvironmentCosts {
@@ -92,7 +112,10 @@ pub fn tables(rooms: &[(&str, &Environment)], threshold: Real, params: BuildPara
             )
         })
         .collect();
-    TablesReport { table1, environments }
+    TablesReport {
+        table1,
+        environments,
+    }
 }
 
 fn mib(bytes: usize) -> f64 {
@@ -101,7 +124,11 @@ fn mib(bytes: usize) -> f64 {
 
 impl fmt::Display for TablesReport {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "Table 1 — spheres on level n (ours: counted on trees built over {})", self.table1.triangle)?;
+        writeln!(
+            f,
+            "Table 1 — spheres on level n (ours: counted on trees built over {})",
+            self.table1.triangle
+        )?;
         write!(f, "  {:<26}", "level")?;
         for n in 1..=7 {
             write!(f, "{n:>7}")?;
@@ -125,7 +152,11 @@ impl fmt::Display for TablesReport {
                 "{name}: {} vertices, {} triangles, {} big (longest edge > {} m)",
                 e.vertices, e.triangles, e.big_triangles, e.threshold
             )?;
-            writeln!(f, "  {:<26}{:>12}{:>16}{:>12}", "method", "nodes", "inside big", "MiB")?;
+            writeln!(
+                f,
+                "  {:<26}{:>12}{:>16}{:>12}",
+                "method", "nodes", "inside big", "MiB"
+            )?;
             for m in Method::ALL {
                 let c = &e.methods[m.name()];
                 writeln!(

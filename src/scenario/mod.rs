@@ -121,7 +121,10 @@ pub struct Recording {
 
 impl Default for Recording {
     fn default() -> Self {
-        Self { all_spheres: false, mesh_every: 1 }
+        Self {
+            all_spheres: false,
+            mesh_every: 1,
+        }
     }
 }
 
@@ -164,14 +167,28 @@ impl fmt::Display for ScenarioError {
 }
 
 impl ScenarioError {
-    pub(crate) fn new(file: &Path, at: Option<Location>, field: Option<&str>, message: impl Into<String>) -> Self {
-        Self { file: file.to_owned(), at, field: field.map(str::to_owned), message: one_line(&message.into()) }
+    pub(crate) fn new(
+        file: &Path,
+        at: Option<Location>,
+        field: Option<&str>,
+        message: impl Into<String>,
+    ) -> Self {
+        Self {
+            file: file.to_owned(),
+            at,
+            field: field.map(str::to_owned),
+            message: one_line(&message.into()),
+        }
     }
 }
 
 /// Collapses a message onto one line.
 fn one_line(s: &str) -> String {
-    s.lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join("; ")
+    s.lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
 }
 
 /// Line and column (from 1, column in characters) of byte `offset` in `text`.
@@ -183,7 +200,10 @@ fn locate(text: &str, offset: usize) -> Location {
     let before = &text[..offset];
     let line = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
-    Location { line, column: text[line_start..offset].chars().count() + 1 }
+    Location {
+        line,
+        column: text[line_start..offset].chars().count() + 1,
+    }
 }
 
 /// The trimmed text of the line holding byte `offset`, shortened.
@@ -261,7 +281,10 @@ impl Scenario {
         };
         let raw: RawScenario = toml::from_str(text).map_err(|e| {
             let at = e.span().map(|s| locate(text, s.start));
-            let near = e.span().map(|s| line_text(text, s.start)).filter(|l| !l.is_empty());
+            let near = e
+                .span()
+                .map(|s| line_text(text, s.start))
+                .filter(|l| !l.is_empty());
             let msg = match near {
                 Some(l) => format!("{} (at `{l}`)", one_line(e.message())),
                 None => one_line(e.message()),
@@ -272,17 +295,20 @@ impl Scenario {
 
         // [character]
         let src = &raw.character.source;
-        let mut source: CharacterSource = src
-            .get_ref()
-            .parse()
-            .map_err(|e: crate::io::SourceError| err_at(src.span(), "character.source", e.to_string()))?;
-        if let CharacterSource::File(p) = &source {
-            let found = find_asset(base, p).ok_or_else(|| {
-                err_at(src.span(), "character.source", missing(base, p))
+        let mut source: CharacterSource =
+            src.get_ref().parse().map_err(|e: crate::io::SourceError| {
+                err_at(src.span(), "character.source", e.to_string())
             })?;
+        if let CharacterSource::File(p) = &source {
+            let found = find_asset(base, p)
+                .ok_or_else(|| err_at(src.span(), "character.source", missing(base, p)))?;
             source = CharacterSource::File(found);
         }
-        let character = CharacterSection { source, clip: raw.character.clip, skinning: raw.character.skinning };
+        let character = CharacterSection {
+            source,
+            clip: raw.character.clip,
+            skinning: raw.character.skinning,
+        };
 
         // [environment]
         let env_span = raw.environment.span();
@@ -290,7 +316,11 @@ impl Scenario {
         let environment = match env.kind {
             EnvKind::Museum | EnvKind::LivingRoom => {
                 if let Some(p) = &env.path {
-                    return Err(err_at(p.span(), "environment.path", "only for kind = \"gltf\"".into()));
+                    return Err(err_at(
+                        p.span(),
+                        "environment.path",
+                        "only for kind = \"gltf\"".into(),
+                    ));
                 }
                 let seed = env.seed.unwrap_or(0);
                 if env.kind == EnvKind::Museum {
@@ -301,10 +331,18 @@ impl Scenario {
             }
             EnvKind::Gltf => {
                 let Some(p) = env.path else {
-                    return Err(err_at(env_span, "environment.path", "kind = \"gltf\" needs a path".into()));
+                    return Err(err_at(
+                        env_span,
+                        "environment.path",
+                        "kind = \"gltf\" needs a path".into(),
+                    ));
                 };
                 if env.seed.is_some() {
-                    return Err(err_at(env_span, "environment.seed", "a glTF scene takes no seed".into()));
+                    return Err(err_at(
+                        env_span,
+                        "environment.seed",
+                        "a glTF scene takes no seed".into(),
+                    ));
                 }
                 let path = PathBuf::from(p.get_ref());
                 let found = find_asset(base, &path)
@@ -316,7 +354,9 @@ impl Scenario {
         // [placement]
         let pl_span = raw.placement.span();
         let pl = raw.placement.into_inner();
-        let count = usize::from(pl.start.is_some()) + usize::from(pl.path.is_some()) + usize::from(pl.gap.is_some());
+        let count = usize::from(pl.start.is_some())
+            + usize::from(pl.path.is_some())
+            + usize::from(pl.gap.is_some());
         if count != 1 {
             return Err(err_at(
                 pl_span,
@@ -326,21 +366,42 @@ impl Scenario {
         }
         let mut surface_at = None;
         let placement = if let Some(t) = pl.start {
-            if !t.translation.iter().chain([&t.yaw_degrees]).all(|v| v.is_finite()) {
-                return Err(err_at(pl_span, "placement.start", "translation and yaw must be finite".into()));
+            if !t
+                .translation
+                .iter()
+                .chain([&t.yaw_degrees])
+                .all(|v| v.is_finite())
+            {
+                return Err(err_at(
+                    pl_span,
+                    "placement.start",
+                    "translation and yaw must be finite".into(),
+                ));
             }
             Placement::Start(t)
         } else if let Some(p) = pl.path {
             let span = p.span();
             let w = p.into_inner();
             if w.waypoints.is_empty() {
-                return Err(err_at(span, "placement.path.waypoints", "needs at least one waypoint".into()));
+                return Err(err_at(
+                    span,
+                    "placement.path.waypoints",
+                    "needs at least one waypoint".into(),
+                ));
             }
             if !w.waypoints.iter().flatten().all(|v| v.is_finite()) {
-                return Err(err_at(span, "placement.path.waypoints", "coordinates must be finite".into()));
+                return Err(err_at(
+                    span,
+                    "placement.path.waypoints",
+                    "coordinates must be finite".into(),
+                ));
             }
             if !(w.speed.is_finite() && w.speed > 0.0) {
-                return Err(err_at(span, "placement.path.speed", format!("must be positive, not {}", w.speed)));
+                return Err(err_at(
+                    span,
+                    "placement.path.speed",
+                    format!("must be positive, not {}", w.speed),
+                ));
             }
             Placement::Path(w)
         } else {
@@ -348,7 +409,11 @@ impl Scenario {
             let span = g.span();
             let g = g.into_inner();
             if !g.metres.is_finite() || g.yaw_degrees.is_some_and(|y| !y.is_finite()) {
-                return Err(err_at(span, "placement.gap.metres", "must be a finite number".into()));
+                return Err(err_at(
+                    span,
+                    "placement.gap.metres",
+                    "must be a finite number".into(),
+                ));
             }
             surface_at = Some(locate(text, span.start));
             Placement::Gap(g)
@@ -357,14 +422,22 @@ impl Scenario {
         // Scalars.
         let frames = match raw.frames {
             Some(f) if *f.get_ref() <= 0 => {
-                return Err(err_at(f.span(), "frames", format!("must be a positive whole number, not {}", f.get_ref())));
+                return Err(err_at(
+                    f.span(),
+                    "frames",
+                    format!("must be a positive whole number, not {}", f.get_ref()),
+                ));
             }
             Some(f) => Some(*f.get_ref() as usize),
             None => None,
         };
         let fps = match raw.fps {
             Some(f) if !(f.get_ref().is_finite() && *f.get_ref() > 0.0) => {
-                return Err(err_at(f.span(), "fps", format!("must be positive, not {}", f.get_ref())));
+                return Err(err_at(
+                    f.span(),
+                    "fps",
+                    format!("must be positive, not {}", f.get_ref()),
+                ));
             }
             Some(f) => *f.get_ref() as Real,
             None => 30.0,
@@ -374,7 +447,10 @@ impl Scenario {
                 return Err(err_at(
                     m.span(),
                     "methods",
-                    format!("empty; valid methods: {}", Method::ALL.map(Method::name).join(", ")),
+                    format!(
+                        "empty; valid methods: {}",
+                        Method::ALL.map(Method::name).join(", ")
+                    ),
                 ));
             }
             Some(m) => m.into_inner(),
@@ -382,14 +458,22 @@ impl Scenario {
         };
         let threshold = match raw.threshold {
             Some(t) if !(t.get_ref().is_finite() && *t.get_ref() > 0.0) => {
-                return Err(err_at(t.span(), "threshold", format!("must be positive metres, not {}", t.get_ref())));
+                return Err(err_at(
+                    t.span(),
+                    "threshold",
+                    format!("must be positive metres, not {}", t.get_ref()),
+                ));
             }
             Some(t) => *t.get_ref() as Real,
             None => DEFAULT_THRESHOLD,
         };
         let recording = match raw.recording {
             Some(r) if r.get_ref().mesh_every == 0 => {
-                return Err(err_at(r.span(), "recording.mesh_every", "must be at least 1".into()));
+                return Err(err_at(
+                    r.span(),
+                    "recording.mesh_every",
+                    "must be at least 1".into(),
+                ));
             }
             Some(r) => r.into_inner(),
             None => Recording::default(),
@@ -413,7 +497,8 @@ impl Scenario {
 
 /// Reads, parses and checks a scenario file (see [`Scenario::parse`]).
 pub fn load_scenario(path: &Path) -> Result<Scenario, ScenarioError> {
-    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError::new(path, None, None, e.to_string()))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ScenarioError::new(path, None, None, e.to_string()))?;
     Scenario::parse(&text, path)
 }
 
@@ -433,7 +518,11 @@ fn missing(base: &Path, path: &Path) -> String {
     if path.is_absolute() {
         format!("file {} does not exist", path.display())
     } else {
-        let dir = if base.as_os_str().is_empty() { Path::new(".") } else { base };
+        let dir = if base.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            base
+        };
         format!(
             "file {} does not exist (looked in {} and the current directory)",
             path.display(),

@@ -51,7 +51,11 @@ pub enum PlacementPlan {
     /// The same transform at every frame (`start`, `gap`).
     Fixed(Isometry3<Real>),
     /// Waypoints walked at `speed` m/s from frame 0, facing the walking direction.
-    Walk { waypoints: Vec<Vector3<Real>>, speed: Real, fps: Real },
+    Walk {
+        waypoints: Vec<Vector3<Real>>,
+        speed: Real,
+        fps: Real,
+    },
 }
 
 /// The plane and the distances of a gap placement.
@@ -83,7 +87,11 @@ impl Resolved {
 
     /// Clip time of `frame` (the last frame's time past the end).
     pub fn time_at(&self, frame: usize) -> Real {
-        self.times.get(frame).or(self.times.last()).copied().unwrap_or(0.0)
+        self.times
+            .get(frame)
+            .or(self.times.last())
+            .copied()
+            .unwrap_or(0.0)
     }
 
     /// The character's world placement at `frame`: world = placement · model.
@@ -97,7 +105,11 @@ impl PlacementPlan {
     pub fn at(&self, frame: usize) -> Isometry3<Real> {
         match self {
             PlacementPlan::Fixed(iso) => *iso,
-            PlacementPlan::Walk { waypoints, speed, fps } => walk_at(waypoints, speed * frame as Real / fps),
+            PlacementPlan::Walk {
+                waypoints,
+                speed,
+                fps,
+            } => walk_at(waypoints, speed * frame as Real / fps),
         }
     }
 }
@@ -132,7 +144,11 @@ fn walk_at(points: &[Vector3<Real>], s: Real) -> Isometry3<Real> {
 }
 
 fn asset(base: &Path, p: &Path) -> PathBuf {
-    if p.is_relative() && base.join(p).is_file() { base.join(p) } else { p.to_owned() }
+    if p.is_relative() && base.join(p).is_file() {
+        base.join(p)
+    } else {
+        p.to_owned()
+    }
 }
 
 /// Loads the character and the room and works out frame times and placement.
@@ -142,26 +158,38 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
     let fail = |field: &str, msg: String| ScenarioError::new(file, None, Some(field), msg);
 
     let character = match &s.character.source {
-        CharacterSource::File(p) => load_character(&asset(base_dir, p)).map_err(|e| fail("character.source", e.to_string()))?.0,
-        CharacterSource::Humanoid(h) => generate_humanoid(h).map_err(|e| fail("character.source", e.to_string()))?,
+        CharacterSource::File(p) => {
+            load_character(&asset(base_dir, p))
+                .map_err(|e| fail("character.source", e.to_string()))?
+                .0
+        }
+        CharacterSource::Humanoid(h) => {
+            generate_humanoid(h).map_err(|e| fail("character.source", e.to_string()))?
+        }
     };
     let environment = match &s.environment {
         EnvironmentSection::Museum { seed } => museum(*seed),
         EnvironmentSection::LivingRoom { seed } => living_room(*seed),
         EnvironmentSection::Gltf { path } => {
-            load_scene(&asset(base_dir, path)).map_err(|e| fail("environment.path", e.to_string()))?.0
+            load_scene(&asset(base_dir, path))
+                .map_err(|e| fail("environment.path", e.to_string()))?
+                .0
         }
     };
     let clip_index = match (&s.character.clip, character.clips.is_empty()) {
         (None, true) => None,
         (name, _) => {
-            let clip = character.clip(name.as_deref()).map_err(|e| fail("character.clip", e.to_string()))?;
+            let clip = character
+                .clip(name.as_deref())
+                .map_err(|e| fail("character.clip", e.to_string()))?;
             character.clips.iter().position(|c| std::ptr::eq(c, clip))
         }
     };
     let clip = clip_index.map(|i| &character.clips[i]);
     let (start, duration) = clip.map_or((0.0, 0.0), |c| (c.start(), c.duration()));
-    let frames = s.frames.unwrap_or_else(|| (duration * s.fps).floor() as usize + 1);
+    let frames = s
+        .frames
+        .unwrap_or_else(|| (duration * s.fps).floor() as usize + 1);
     let times: Vec<Real> = (0..frames)
         .map(|k| {
             let mut local = k as Real / s.fps;
@@ -175,15 +203,38 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
     let (placement, gap) = match &s.placement {
         Placement::Start(t) => {
             let [x, y, z] = t.translation;
-            let iso = Isometry3::from_parts(Translation3::new(x, y, z), yaw_rotation(t.yaw_degrees.to_radians()));
+            let iso = Isometry3::from_parts(
+                Translation3::new(x, y, z),
+                yaw_rotation(t.yaw_degrees.to_radians()),
+            );
             (PlacementPlan::Fixed(iso), None)
         }
         Placement::Path(w) => {
-            let waypoints = w.waypoints.iter().map(|&[x, y, z]| Vector3::new(x, y, z)).collect();
-            (PlacementPlan::Walk { waypoints, speed: w.speed, fps: s.fps }, None)
+            let waypoints = w
+                .waypoints
+                .iter()
+                .map(|&[x, y, z]| Vector3::new(x, y, z))
+                .collect();
+            (
+                PlacementPlan::Walk {
+                    waypoints,
+                    speed: w.speed,
+                    fps: s.fps,
+                },
+                None,
+            )
         }
         Placement::Gap(g) => {
-            let (iso, report) = place_at_gap(s, &character, clip, &times, &environment, &g.surface, g.metres, g.yaw_degrees)?;
+            let (iso, report) = place_at_gap(
+                s,
+                &character,
+                clip,
+                &times,
+                &environment,
+                &g.surface,
+                g.metres,
+                g.yaw_degrees,
+            )?;
             (PlacementPlan::Fixed(iso), Some(report))
         }
     };
@@ -219,9 +270,18 @@ fn place_at_gap(
     let err = |msg: String| ScenarioError::new(&s.file, s.surface_at, Some(field), msg);
     let Some(object) = env.object(surface) else {
         const SHOWN: usize = 8;
-        let names: Vec<String> = env.objects.iter().take(SHOWN).map(|o| format!("{:?}", o.name)).collect();
+        let names: Vec<String> = env
+            .objects
+            .iter()
+            .take(SHOWN)
+            .map(|o| format!("{:?}", o.name))
+            .collect();
         let more = env.objects.len().saturating_sub(SHOWN);
-        let tail = if more > 0 { format!(" and {more} more") } else { String::new() };
+        let tail = if more > 0 {
+            format!(" and {more} more")
+        } else {
+            String::new()
+        };
         return Err(err(format!(
             "no object named {surface:?} in {}; objects: {}{tail}",
             env.name,
@@ -243,7 +303,9 @@ fn place_at_gap(
         }
     }
     let Some((_, mut n, on_plane)) = best else {
-        return Err(err(format!("object {surface:?} has no triangle of positive area")));
+        return Err(err(format!(
+            "object {surface:?} has no triangle of positive area"
+        )));
     };
     let (lo, hi) = mesh.bounds();
     let centre = (f(&lo) + f(&hi)) * 0.5;
@@ -296,7 +358,11 @@ fn place_at_gap(
 
     let alpha = metres as f64 + offset - dmin;
     // Feet on the floor, unless the surface is itself (nearly) horizontal.
-    let beta = if u.y.abs() > 0.1 { (-ymin - alpha * n.y) / u.y } else { 0.0 };
+    let beta = if u.y.abs() > 0.1 {
+        (-ymin - alpha * n.y) / u.y
+    } else {
+        0.0
+    };
     let gamma = (smin + smax) * 0.5 - (tmin + tmax) * 0.5;
     let shift = n * alpha + u * beta + t * gamma;
     let iso = Isometry3::from_parts(
@@ -311,7 +377,11 @@ fn place_at_gap(
     for (k, &time) in times.iter().enumerate() {
         buffers.pose(character, clip, time);
         buffers.skin_all(character, s.character.skinning);
-        let frame_min = buffers.positions.iter().map(|p| n.dot(&f(&(iso * p))) - offset).fold(f64::INFINITY, f64::min);
+        let frame_min = buffers
+            .positions
+            .iter()
+            .map(|p| n.dot(&f(&(iso * p))) - offset)
+            .fold(f64::INFINITY, f64::min);
         if frame_min < achieved {
             achieved = frame_min;
             closest_frame = k;

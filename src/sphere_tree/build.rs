@@ -28,7 +28,9 @@ pub struct BuildParams {
 impl Default for BuildParams {
     /// Collapse ratio 0.9 (ours; the paper says only "similar").
     fn default() -> Self {
-        Self { collapse_ratio: 0.9 }
+        Self {
+            collapse_ratio: 0.9,
+        }
     }
 }
 
@@ -46,8 +48,10 @@ pub fn build_tree(mesh: &TriMesh, triangles: &[TriangleId], params: BuildParams)
     if triangles.is_empty() {
         return SphereTree::default();
     }
-    let mut items: Vec<(TriangleId, Point)> =
-        triangles.iter().map(|&t| (t, mesh.triangle(t).centroid())).collect();
+    let mut items: Vec<(TriangleId, Point)> = triangles
+        .iter()
+        .map(|&t| (t, mesh.triangle(t).centroid()))
+        .collect();
     let mut bin = Vec::with_capacity(2 * items.len());
     let mut scratch = Vec::new();
     let root = build_binary(mesh, &mut items, &mut bin, &mut scratch);
@@ -61,7 +65,11 @@ fn build_binary(
     scratch: &mut Vec<Point>,
 ) -> usize {
     if let [(t, _)] = items {
-        bin.push(BinNode { sphere: triangle_sphere(&mesh.triangle(*t)), children: None, triangle: *t });
+        bin.push(BinNode {
+            sphere: triangle_sphere(&mesh.triangle(*t)),
+            children: None,
+            triangle: *t,
+        });
         return bin.len() - 1;
     }
     // Sphere of all vertices first (scratch reused across the recursion).
@@ -86,12 +94,17 @@ fn build_binary(
     // Nesting: grow the radius (centre kept) until both children fit.
     for child in [l, r] {
         let c = bin[child].sphere;
-        let need = crate::geometry::sphere::distance_f64(&c.center, &sphere.center) + c.radius as f64;
+        let need =
+            crate::geometry::sphere::distance_f64(&c.center, &sphere.center) + c.radius as f64;
         if need > sphere.radius as f64 {
             sphere.radius = round_up(need);
         }
     }
-    bin.push(BinNode { sphere, children: Some([l, r]), triangle: TriangleId(u32::MAX) });
+    bin.push(BinNode {
+        sphere,
+        children: Some([l, r]),
+        triangle: TriangleId(u32::MAX),
+    });
     bin.len() - 1
 }
 

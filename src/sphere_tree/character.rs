@@ -55,7 +55,12 @@ pub struct CharacterTree {
 impl CharacterTree {
     /// Builds the tree over the triangles `dedup` keeps, with refit rules for
     /// `model`.
-    pub fn build(character: &Character, dedup: &EdgeDedup, model: SkinningModel, params: BuildParams) -> Self {
+    pub fn build(
+        character: &Character,
+        dedup: &EdgeDedup,
+        model: SkinningModel,
+        params: BuildParams,
+    ) -> Self {
         let mesh = &character.mesh;
         let skeleton = &character.skeleton;
         let triangle_joint: Vec<JointId> = mesh
@@ -87,13 +92,25 @@ impl CharacterTree {
         let tree_of_joint = |j: JointId| joint_trees.iter().position(|(k, _)| *k == j);
         let groups: Vec<Vec<usize>> = extremities
             .iter()
-            .map(|e| e.joints.iter().filter_map(|&j| tree_of_joint(j)).collect::<Vec<_>>())
+            .map(|e| {
+                e.joints
+                    .iter()
+                    .filter_map(|&j| tree_of_joint(j))
+                    .collect::<Vec<_>>()
+            })
             .filter(|g: &Vec<usize>| !g.is_empty())
             .collect();
 
         let (tree, origin) = assemble(character, &joint_trees, &per_joint, &groups);
         let refit = RefitData::new(character, model, &tree, &origin, &joint_trees);
-        Self { tree, refit, model, extremities, triangle_joint, triangles }
+        Self {
+            tree,
+            refit,
+            model,
+            extremities,
+            triangle_joint,
+            triangles,
+        }
     }
 }
 
@@ -120,7 +137,10 @@ pub fn extremities(skeleton: &Skeleton, owned: &[usize]) -> Vec<Extremity> {
     let total: usize = owned.iter().sum::<usize>().max(1);
     let big = |j: &JointId| subtree[j.index()] as f64 >= MAJOR_SHARE * total as f64;
     let mut trunk = vec![false; n];
-    let roots: Vec<JointId> = (0..n as u16).map(JointId).filter(|&j| skeleton.parent(j).is_none()).collect();
+    let roots: Vec<JointId> = (0..n as u16)
+        .map(JointId)
+        .filter(|&j| skeleton.parent(j).is_none())
+        .collect();
     let several_roots = roots.iter().filter(|r| big(r)).count() >= 2;
     if !several_roots {
         for &r in &roots {
@@ -138,9 +158,15 @@ pub fn extremities(skeleton: &Skeleton, owned: &[usize]) -> Vec<Extremity> {
         }
     }
     let mut out = Vec::new();
-    let trunk_joints: Vec<JointId> = (0..n as u16).map(JointId).filter(|j| trunk[j.index()]).collect();
+    let trunk_joints: Vec<JointId> = (0..n as u16)
+        .map(JointId)
+        .filter(|j| trunk[j.index()])
+        .collect();
     if !trunk_joints.is_empty() {
-        out.push(Extremity { name: "trunk".into(), joints: trunk_joints });
+        out.push(Extremity {
+            name: "trunk".into(),
+            joints: trunk_joints,
+        });
     }
     // Each non-trunk child of a trunk joint (or each root, with several roots)
     // heads one extremity.
@@ -153,8 +179,14 @@ pub fn extremities(skeleton: &Skeleton, owned: &[usize]) -> Vec<Extremity> {
         })
         .collect();
     for h in heads {
-        let joints: Vec<JointId> = (0..n as u16).map(JointId).filter(|&j| skeleton.is_ancestor_or_self(h, j)).collect();
-        out.push(Extremity { name: skeleton.joint(h).name.clone(), joints });
+        let joints: Vec<JointId> = (0..n as u16)
+            .map(JointId)
+            .filter(|&j| skeleton.is_ancestor_or_self(h, j))
+            .collect();
+        out.push(Extremity {
+            name: skeleton.joint(h).name.clone(),
+            joints,
+        });
     }
     out
 }
@@ -176,15 +208,33 @@ fn assemble(
     let level2: Vec<Origin> = groups
         .iter()
         .enumerate()
-        .map(|(g, trees)| if trees.len() == 1 { Origin::Joint(trees[0], NodeId::ROOT) } else { Origin::Group(g) })
+        .map(|(g, trees)| {
+            if trees.len() == 1 {
+                Origin::Joint(trees[0], NodeId::ROOT)
+            } else {
+                Origin::Group(g)
+            }
+        })
         .collect();
-    let root = if level2.len() == 1 { level2[0] } else { Origin::Root };
+    let root = if level2.len() == 1 {
+        level2[0]
+    } else {
+        Origin::Root
+    };
 
     let children = |o: Origin| -> Vec<Origin> {
         match o {
             Origin::Root => level2.clone(),
-            Origin::Group(g) => groups[g].iter().map(|&t| Origin::Joint(t, NodeId::ROOT)).collect(),
-            Origin::Joint(t, n) => joint_trees[t].1.node(n).children().map(|c| Origin::Joint(t, NodeId(c))).collect(),
+            Origin::Group(g) => groups[g]
+                .iter()
+                .map(|&t| Origin::Joint(t, NodeId::ROOT))
+                .collect(),
+            Origin::Joint(t, n) => joint_trees[t]
+                .1
+                .node(n)
+                .children()
+                .map(|c| Origin::Joint(t, NodeId(c)))
+                .collect(),
         }
     };
     let mut order = vec![root];

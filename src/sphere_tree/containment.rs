@@ -37,7 +37,10 @@ impl VertexSets {
             let node = &tree.nodes()[i];
             let mut v: Vec<u32> = match node.primitive() {
                 Some(t) => mesh.indices()[t as usize].to_vec(),
-                None => node.children().flat_map(|c| sets[c as usize].iter().copied()).collect(),
+                None => node
+                    .children()
+                    .flat_map(|c| sets[c as usize].iter().copied())
+                    .collect(),
             };
             v.sort_unstable();
             v.dedup();
@@ -78,7 +81,8 @@ impl VertexSets {
             }
             out.checks += self.of(i).len() as u64;
             if worst_id != u32::MAX {
-                let d = crate::geometry::sphere::distance_f64(&positions[worst_id as usize], &s.center);
+                let d =
+                    crate::geometry::sphere::distance_f64(&positions[worst_id as usize], &s.center);
                 out.worst_excess = out.worst_excess.max(d - s.radius as f64);
             }
         }

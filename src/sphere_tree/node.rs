@@ -32,11 +32,19 @@ pub struct Node {
 impl Node {
     pub fn inner(sphere: Sphere, first_child: NodeId, child_count: u32) -> Self {
         debug_assert!(child_count > 0);
-        Self { sphere, first: first_child.0, count: child_count }
+        Self {
+            sphere,
+            first: first_child.0,
+            count: child_count,
+        }
     }
 
     pub fn leaf(sphere: Sphere, primitive: u32) -> Self {
-        Self { sphere, first: primitive, count: 0 }
+        Self {
+            sphere,
+            first: primitive,
+            count: 0,
+        }
     }
 
     #[inline]
@@ -53,7 +61,11 @@ impl Node {
     /// Child ids (empty for a leaf).
     #[inline]
     pub fn children(&self) -> Range<u32> {
-        if self.is_leaf() { 0..0 } else { self.first..self.first + self.count }
+        if self.is_leaf() {
+            0..0
+        } else {
+            self.first..self.first + self.count
+        }
     }
 
     #[inline]

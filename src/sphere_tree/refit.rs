@@ -79,7 +79,11 @@ impl WeightSummary {
                 let w = character.paper.weight(v);
                 vec![(character.paper.joint(v).0, w, w)]
             }
-            SkinningModel::Linear => character.influences.of(v).map(|(j, w)| (j.0, w, w)).collect(),
+            SkinningModel::Linear => character
+                .influences
+                .of(v)
+                .map(|(j, w)| (j.0, w, w))
+                .collect(),
         };
         entries.sort_by_key(|e| e.0);
         // Repeated joints in one vertex's influences: add their weights.
@@ -104,7 +108,12 @@ enum Rule {
     /// The node's joints ("slots") are `joints[jstart..jend]`; its `count`
     /// corners are weight vectors over those slots, stored one after the other
     /// from `weights[wstart]`.
-    Corners { jstart: u32, jend: u32, wstart: u32, count: u32 },
+    Corners {
+        jstart: u32,
+        jend: u32,
+        wstart: u32,
+        count: u32,
+    },
 }
 
 /// Refit rules for every node of a character tree.
@@ -141,16 +150,22 @@ impl RefitData {
                     s[i] = match n.primitive() {
                         Some(p) => {
                             let tri = character.mesh.indices()[p as usize];
-                            let mut acc = WeightSummary::of_vertex(character, model, tri[0] as usize);
+                            let mut acc =
+                                WeightSummary::of_vertex(character, model, tri[0] as usize);
                             for &v in &tri[1..] {
-                                acc = acc.merge(&WeightSummary::of_vertex(character, model, v as usize), absent_is_zero);
+                                acc = acc.merge(
+                                    &WeightSummary::of_vertex(character, model, v as usize),
+                                    absent_is_zero,
+                                );
                             }
                             acc
                         }
                         None => {
                             let mut ch = n.children();
                             let first = ch.next().unwrap() as usize;
-                            ch.fold(s[first].clone(), |acc, c| acc.merge(&s[c as usize], absent_is_zero))
+                            ch.fold(s[first].clone(), |acc, c| {
+                                acc.merge(&s[c as usize], absent_is_zero)
+                            })
                         }
                     };
                 }
@@ -241,7 +256,11 @@ fn paper_corners(skeleton: &Skeleton, s: &WeightSummary) -> Vec<Vec<(u16, f32)>>
 fn polytope_corners(s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
     let e = &s.entries;
     let k = e.len();
-    let simplex = || e.iter().map(|&(j, _, _)| vec![(j, 1.0)]).collect::<Vec<_>>();
+    let simplex = || {
+        e.iter()
+            .map(|&(j, _, _)| vec![(j, 1.0)])
+            .collect::<Vec<_>>()
+    };
     if k > MAX_POLYTOPE_JOINTS {
         return simplex();
     }
@@ -364,7 +383,12 @@ impl Refitter<'_> {
                     .fold(0.0, f64::max);
                 Sphere::new(center, round_up(r))
             }
-            Rule::Corners { jstart, jend, wstart, count } => {
+            Rule::Corners {
+                jstart,
+                jend,
+                wstart,
+                count,
+            } => {
                 let data = &self.tree.refit;
                 let c = rest.sphere.center;
                 let slots = &data.joints[jstart as usize..jend as usize];
@@ -383,7 +407,11 @@ impl Refitter<'_> {
                 let q = &self.state.scratch[..k];
                 let weights = &data.weights[wstart as usize..wstart as usize + count as usize * k];
                 let corner = |w: &[f32]| -> Point {
-                    Point::from(q.iter().zip(w).fold(Vector::zeros(), |acc, (v, x)| acc + v * *x))
+                    Point::from(
+                        q.iter()
+                            .zip(w)
+                            .fold(Vector::zeros(), |acc, (v, x)| acc + v * *x),
+                    )
                 };
                 let mut sum = Vector::zeros();
                 for w in weights.chunks_exact(k) {
@@ -407,7 +435,11 @@ impl Refitter<'_> {
 
     #[inline]
     fn fresh(&mut self, id: NodeId, base: &Matrix4<f32>) -> Sphere {
-        if self.state.is_fresh(id) { self.state.spheres[id.index()] } else { self.refit_node(id, base) }
+        if self.state.is_fresh(id) {
+            self.state.spheres[id.index()]
+        } else {
+            self.refit_node(id, base)
+        }
     }
 
     /// Refits every node (children before parents).
@@ -435,4 +467,3 @@ impl Hierarchy for OnDemand<'_> {
         self.refitter.fresh(id, &base)
     }
 }
-

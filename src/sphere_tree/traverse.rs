@@ -69,7 +69,12 @@ pub struct LeafPair {
 
 /// Walks `a` and `b` together from their roots; calls `on_leaf_pair` for every
 /// pair of overlapping leaves reached. Empty trees give no tests.
-pub fn traverse<A, B, F>(a: &mut A, b: &mut B, ws: &mut Workspace, mut on_leaf_pair: F) -> TraversalStats
+pub fn traverse<A, B, F>(
+    a: &mut A,
+    b: &mut B,
+    ws: &mut Workspace,
+    mut on_leaf_pair: F,
+) -> TraversalStats
 where
     A: Hierarchy + ?Sized,
     B: Hierarchy + ?Sized,
@@ -90,7 +95,12 @@ where
         match (na.primitive(), nb.primitive()) {
             (Some(pa), Some(pb)) => {
                 stats.leaf_pairs += 1;
-                on_leaf_pair(LeafPair { leaf_a: i, leaf_b: j, primitive_a: pa, primitive_b: pb });
+                on_leaf_pair(LeafPair {
+                    leaf_a: i,
+                    leaf_b: j,
+                    primitive_a: pa,
+                    primitive_b: pb,
+                });
             }
             _ => {
                 let sa = a.sphere(i);

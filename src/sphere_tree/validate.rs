@@ -17,10 +17,22 @@ pub enum TreeError {
     BadPrimitive { node: u32, primitive: u32 },
     #[error("triangle {triangle} is in {count} leaves, expected exactly one")]
     TriangleCount { triangle: u32, count: u32 },
-    #[error("leaf {leaf}: vertex {corner} of triangle {triangle} lies {excess} outside the sphere of node {node}")]
-    VertexOutside { leaf: u32, triangle: u32, corner: usize, node: u32, excess: f64 },
+    #[error(
+        "leaf {leaf}: vertex {corner} of triangle {triangle} lies {excess} outside the sphere of node {node}"
+    )]
+    VertexOutside {
+        leaf: u32,
+        triangle: u32,
+        corner: usize,
+        node: u32,
+        excess: f64,
+    },
     #[error("node {child} sticks out of its parent {parent} by {excess}")]
-    NotNested { parent: u32, child: u32, excess: f64 },
+    NotNested {
+        parent: u32,
+        child: u32,
+        excess: f64,
+    },
 }
 
 /// What [`SphereTree::validate`] checks beyond the layout.
@@ -46,7 +58,11 @@ impl SphereTree {
             }
             let ch = node.children();
             if !ch.is_empty() && (ch.start as usize <= i || ch.end as usize > n) {
-                return Err(TreeError::BadChildren { node: i as u32, first: ch.start, end: ch.end });
+                return Err(TreeError::BadChildren {
+                    node: i as u32,
+                    first: ch.start,
+                    end: ch.end,
+                });
             }
             for c in ch {
                 if parent[c as usize] != u32::MAX {
@@ -57,19 +73,34 @@ impl SphereTree {
             if let Some(p) = node.primitive()
                 && p as usize >= mesh.triangle_count()
             {
-                return Err(TreeError::BadPrimitive { node: i as u32, primitive: p });
+                return Err(TreeError::BadPrimitive {
+                    node: i as u32,
+                    primitive: p,
+                });
             }
         }
         if let Some(orphan) = (1..n).find(|&i| parent[i] == u32::MAX) {
-            return Err(TreeError::BadParent { node: orphan as u32 });
+            return Err(TreeError::BadParent {
+                node: orphan as u32,
+            });
         }
         if checks.nested {
             for (c, &pc) in parent.iter().enumerate().skip(1) {
                 let (p, child) = (&self.nodes[pc as usize], &self.nodes[c]);
-                if !p.sphere.contains_sphere(&child.sphere, checks.tolerance as f32) {
-                    let d = crate::geometry::sphere::distance_f64(&p.sphere.center, &child.sphere.center);
+                if !p
+                    .sphere
+                    .contains_sphere(&child.sphere, checks.tolerance as f32)
+                {
+                    let d = crate::geometry::sphere::distance_f64(
+                        &p.sphere.center,
+                        &child.sphere.center,
+                    );
                     let excess = d + child.sphere.radius as f64 - p.sphere.radius as f64;
-                    return Err(TreeError::NotNested { parent: pc, child: c as u32, excess });
+                    return Err(TreeError::NotNested {
+                        parent: pc,
+                        child: c as u32,
+                        excess,
+                    });
                 }
             }
         }
@@ -108,7 +139,10 @@ impl SphereTree {
                 expected[t.index()] += 1;
             }
             if let Some(t) = (0..count.len()).find(|&t| count[t] != expected[t].min(1)) {
-                return Err(TreeError::TriangleCount { triangle: t as u32, count: count[t] });
+                return Err(TreeError::TriangleCount {
+                    triangle: t as u32,
+                    count: count[t],
+                });
             }
         }
         Ok(())

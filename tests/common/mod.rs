@@ -16,14 +16,18 @@ pub fn soup(seed: u64, n: usize, extent: f32, size: f32) -> TriMesh {
             rng.random_range(0.0..extent),
         );
         for _ in 0..3 {
-            p.push(c + nalgebra::Vector3::new(
-                rng.random_range(-size..size),
-                rng.random_range(-size..size),
-                rng.random_range(-size..size),
-            ));
+            p.push(
+                c + nalgebra::Vector3::new(
+                    rng.random_range(-size..size),
+                    rng.random_range(-size..size),
+                    rng.random_range(-size..size),
+                ),
+            );
         }
     }
-    let t = (0..n as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    let t = (0..n as u32)
+        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
     TriMesh::new(p, t).unwrap()
 }
 
@@ -35,7 +39,9 @@ pub fn uv_sphere(c: Point, r: f32, rings: u32, segments: u32) -> TriMesh {
         let th = std::f32::consts::PI * i as f32 / rings as f32;
         for j in 0..segments {
             let ph = 2.0 * std::f32::consts::PI * j as f32 / segments as f32;
-            p.push(c + r * nalgebra::Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()));
+            p.push(
+                c + r * nalgebra::Vector3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos()),
+            );
         }
     }
     p.push(c + nalgebra::Vector3::new(0.0, 0.0, -r));
@@ -66,10 +72,22 @@ pub fn random_character(seed: u64, joints: usize, triangles: usize) -> Character
     let mut js: Vec<Joint> = Vec::new();
     let mut world: Vec<Matrix4<f32>> = Vec::new();
     for i in 0..joints {
-        let parent = if i == 0 { None } else { Some(JointId(rng.random_range(0..i) as u16)) };
+        let parent = if i == 0 {
+            None
+        } else {
+            Some(JointId(rng.random_range(0..i) as u16))
+        };
         let rest = Trs {
-            translation: Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(0.2..1.0), rng.random_range(-1.0..1.0)),
-            rotation: UnitQuaternion::from_euler_angles(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)),
+            translation: Vector3::new(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(0.2..1.0),
+                rng.random_range(-1.0..1.0),
+            ),
+            rotation: UnitQuaternion::from_euler_angles(
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+                rng.random_range(-1.0..1.0),
+            ),
             scale: Vector3::new(1.0, 1.0, 1.0),
         };
         let w = match parent {
@@ -77,7 +95,12 @@ pub fn random_character(seed: u64, joints: usize, triangles: usize) -> Character
             None => rest.to_matrix(),
         };
         world.push(w);
-        js.push(Joint { name: format!("j{i}"), parent, rest, inverse_bind: w.try_inverse().unwrap() });
+        js.push(Joint {
+            name: format!("j{i}"),
+            parent,
+            rest,
+            inverse_bind: w.try_inverse().unwrap(),
+        });
     }
     let skeleton = Skeleton::new(js, Matrix4::identity()).unwrap();
     let mut p = Vec::new();
@@ -86,9 +109,20 @@ pub fn random_character(seed: u64, joints: usize, triangles: usize) -> Character
     for _ in 0..triangles {
         let j = rng.random_range(0..joints);
         let origin = world[j].transform_point(&Point::origin());
-        let c = origin + Vector3::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3));
+        let c = origin
+            + Vector3::new(
+                rng.random_range(-0.3..0.3),
+                rng.random_range(-0.3..0.3),
+                rng.random_range(-0.3..0.3),
+            );
         for _ in 0..3 {
-            p.push(c + Vector3::new(rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05), rng.random_range(-0.05..0.05)));
+            p.push(
+                c + Vector3::new(
+                    rng.random_range(-0.05..0.05),
+                    rng.random_range(-0.05..0.05),
+                    rng.random_range(-0.05..0.05),
+                ),
+            );
             let k = rng.random_range(1..=4usize);
             let mut jj = [0u16; 4];
             let mut ww = [0.0f32; 4];
@@ -105,7 +139,9 @@ pub fn random_character(seed: u64, joints: usize, triangles: usize) -> Character
             infl_w.push(ww);
         }
     }
-    let t = (0..triangles as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+    let t = (0..triangles as u32)
+        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
     let mesh = TriMesh::new(p, t).unwrap();
     let influences = Influences::new(infl_j, infl_w, joints).unwrap();
     Character::new(format!("random-{seed}"), skeleton, mesh, influences, vec![])
@@ -118,10 +154,24 @@ pub fn random_pose(seed: u64, skeleton: &Skeleton, max_scale: f32) -> Vec<Trs> {
         .rest_pose()
         .into_iter()
         .map(|r| {
-            let s = if max_scale > 1.0 { rng.random_range(1.0 / max_scale..max_scale) } else { 1.0 };
+            let s = if max_scale > 1.0 {
+                rng.random_range(1.0 / max_scale..max_scale)
+            } else {
+                1.0
+            };
             Trs {
-                translation: r.translation + Vector3::new(rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3), rng.random_range(-0.3..0.3)),
-                rotation: r.rotation * UnitQuaternion::from_euler_angles(rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0)),
+                translation: r.translation
+                    + Vector3::new(
+                        rng.random_range(-0.3..0.3),
+                        rng.random_range(-0.3..0.3),
+                        rng.random_range(-0.3..0.3),
+                    ),
+                rotation: r.rotation
+                    * UnitQuaternion::from_euler_angles(
+                        rng.random_range(-2.0..2.0),
+                        rng.random_range(-2.0..2.0),
+                        rng.random_range(-2.0..2.0),
+                    ),
                 scale: Vector3::new(s, s, s),
             }
         })
