@@ -72,7 +72,7 @@ struct InspectArgs {
     no_dedup: bool,
     /// Collapse a child sphere into its parent when its radius exceeds this
     /// fraction of the parent's (1 keeps the binary tree).
-    #[arg(long, default_value_t = BuildParams::default().collapse_ratio, value_parser = parse_ratio)]
+    #[arg(long, default_value_t = BuildParams::default().collapse_ratio, value_parser = parse_positive)]
     collapse_ratio: f32,
     /// Play a clip: skin every frame, refit every sphere of the character's
     /// tree, check containment and tightness, time the refit strategies.
@@ -106,10 +106,6 @@ impl From<SkinningArg> for SkinningModel {
             SkinningArg::Paper => SkinningModel::Paper,
         }
     }
-}
-
-fn parse_ratio(s: &str) -> Result<f32, String> {
-    parse_positive(s)
 }
 
 fn parse_positive(s: &str) -> Result<f32, String> {

@@ -146,35 +146,6 @@ impl SphereTree {
         p
     }
 
-    /// Primitives in depth-first order, and for every node the range of that
-    /// list its subtree holds (a subtree's leaves are contiguous depth first).
-    pub fn subtree_primitives(&self) -> (Vec<u32>, Vec<(u32, u32)>) {
-        let mut order = Vec::with_capacity(self.leaf_count());
-        let mut range = vec![(0u32, 0u32); self.nodes.len()];
-        if self.nodes.is_empty() {
-            return (order, range);
-        }
-        // Iterative post-order: (node, children visited?).
-        let mut stack = vec![(0u32, false)];
-        while let Some((i, done)) = stack.pop() {
-            let n = &self.nodes[i as usize];
-            if done {
-                let first = n.children().next().unwrap();
-                let last = n.children().last().unwrap();
-                range[i as usize] = (range[first as usize].0, range[last as usize].1);
-            } else if let Some(p) = n.primitive() {
-                range[i as usize] = (order.len() as u32, order.len() as u32 + 1);
-                order.push(p);
-            } else {
-                stack.push((i, true));
-                for c in n.children().rev() {
-                    stack.push((c, false));
-                }
-            }
-        }
-        (order, range)
-    }
-
     /// Number of levels (a lone leaf has depth 1; an empty tree 0).
     pub fn depth(&self) -> usize {
         self.nodes_per_level().len()

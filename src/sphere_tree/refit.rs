@@ -127,8 +127,6 @@ pub struct RefitData {
     weights: Vec<f32>,
     /// Most slots any node has (sizes the per-frame scratch).
     max_slots: usize,
-    /// Weight summary per node (kept for inspection and tests).
-    summaries: Vec<WeightSummary>,
 }
 
 impl RefitData {
@@ -179,16 +177,14 @@ impl RefitData {
             match *o {
                 Origin::Root | Origin::Group(_) => {
                     data.rules.push(Rule::FromChildren);
-                    data.summaries.push(WeightSummary::default());
                 }
                 Origin::Joint(t, n) => {
-                    let summary = sub[t][n.index()].clone();
+                    let summary = &sub[t][n.index()];
                     let corners = match model {
-                        SkinningModel::Paper => paper_corners(&character.skeleton, &summary),
-                        SkinningModel::Linear => polytope_corners(&summary),
+                        SkinningModel::Paper => paper_corners(&character.skeleton, summary),
+                        SkinningModel::Linear => polytope_corners(summary),
                     };
                     data.push_corners(&corners);
-                    data.summaries.push(summary);
                 }
             }
         }
@@ -222,18 +218,6 @@ impl RefitData {
             wstart: wstart as u32,
             count: corners.len() as u32,
         });
-    }
-
-    /// Corners per node, for statistics.
-    pub fn corner_count(&self, id: NodeId) -> usize {
-        match self.rules[id.index()] {
-            Rule::FromChildren => 0,
-            Rule::Corners { count, .. } => count as usize,
-        }
-    }
-
-    pub fn summary(&self, id: NodeId) -> &WeightSummary {
-        &self.summaries[id.index()]
     }
 }
 
