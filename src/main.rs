@@ -170,17 +170,25 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
             collapse_ratio: args.collapse_ratio,
         },
     };
-    let mesh = if args.animate {
-        load(&args.source)?.mesh
+    // With --animate the character is loaded once and its bind mesh inspected.
+    let character = if args.animate {
+        Some(load(&args.source)?)
     } else {
-        static_mesh(&args.source)?
+        None
     };
-    let (report, _tree) = inspect_mesh(&name, &mesh, options)
+    let loaded;
+    let mesh = match &character {
+        Some(c) => &c.mesh,
+        None => {
+            loaded = static_mesh(&args.source)?;
+            &loaded
+        }
+    };
+    let (report, _tree) = inspect_mesh(&name, mesh, options)
         .with_context(|| format!("{name}: sphere tree failed validation"))?;
     let mut json = serde_json::to_value(&report)?;
     let mut out = String::new();
-    if args.animate {
-        let character = load(&args.source)?;
+    if let Some(character) = &character {
         let opts = AnimateOptions {
             model: args.skinning.into(),
             clip: args.clip.clone(),
@@ -190,7 +198,7 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
             sample_every: args.sample_every,
             ..AnimateOptions::default()
         };
-        let refit = animate(&character, &opts).with_context(|| name.clone())?;
+        let refit = animate(character, &opts).with_context(|| name.clone())?;
         json["joints"] = character.skeleton.len().into();
         json["clips"] = character
             .clips
@@ -200,7 +208,7 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
             .into();
         json["refit"] = serde_json::to_value(&refit)?;
         if !args.json {
-            out = format!("{report}{}", refit_text(&character, &refit));
+            out = format!("{report}{}", refit_text(character, &refit));
         }
     } else if !args.json {
         out = report.to_string();
