@@ -44,6 +44,15 @@ pub(crate) fn round_up(x: f64) -> Real {
     if (r as f64) < x { r.next_up() } else { r }
 }
 
+/// Grows `s` (centre kept) just enough to hold `child`; rounding up keeps the
+/// containment exact.
+pub fn grow_to_hold(s: &mut Sphere, child: &Sphere) {
+    let need = super::sphere::distance_f64(&child.center, &s.center) + child.radius as f64;
+    if need > s.radius as f64 {
+        s.radius = round_up(need);
+    }
+}
+
 /// The minimal enclosing sphere of a triangle: on the longest edge when the
 /// angle opposite it is not acute (degenerate triangles included), else the
 /// circumsphere.

@@ -113,35 +113,25 @@ impl EnvironmentTree {
                 From::Div(d, i) => (*divisions[d as usize].tree.node(NodeId(i)), f),
             }
         };
-        let mut order = vec![From::Base(0)];
-        let mut nodes =
-            Vec::with_capacity(base.len() + divisions.iter().map(|d| d.tree.len()).sum::<usize>());
-        let mut division_node = Vec::with_capacity(nodes.capacity());
-        let mut i = 0;
-        while i < order.len() {
-            let (src, from) = resolve(order[i]);
-            division_node.push(match from {
+        let (tree, order) = SphereTree::breadth_first(From::Base(0), |f, kids| {
+            let (src, from) = resolve(f);
+            kids.extend(src.children().map(|c| match from {
+                From::Base(_) => From::Base(c),
+                From::Div(d, _) => From::Div(d, c),
+            }));
+            (src.sphere, src.primitive())
+        });
+        let division_node = order
+            .iter()
+            .map(|&f| match resolve(f).1 {
                 From::Div(d, k) => Some((d, k)),
                 From::Base(_) => None,
-            });
-            if src.is_leaf() {
-                nodes.push(src);
-            } else {
-                let first = NodeId(order.len() as u32);
-                for c in src.children() {
-                    order.push(match from {
-                        From::Base(_) => From::Base(c),
-                        From::Div(d, _) => From::Div(d, c),
-                    });
-                }
-                nodes.push(Node::inner(src.sphere, first, src.child_count()));
-            }
-            i += 1;
-        }
+            })
+            .collect();
         Self {
             method,
             threshold,
-            tree: SphereTree::from_nodes(nodes),
+            tree,
             divisions,
             division_node,
             big,

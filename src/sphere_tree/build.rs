@@ -11,11 +11,11 @@
 //!    so traversal does not test nearly equal spheres twice.
 //! 4. Breadth-first layout: children contiguous and after their parent.
 
-use crate::geometry::enclosing::{points_sphere, round_up, triangle_sphere};
+use crate::geometry::enclosing::{grow_to_hold, points_sphere, triangle_sphere};
 use crate::geometry::{Point, Sphere};
 use crate::mesh::{TriMesh, TriangleId};
 
-use super::node::{Node, NodeId, SphereTree};
+use super::node::SphereTree;
 
 /// Construction settings.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -93,12 +93,7 @@ fn build_binary(
 
     // Nesting: grow the radius (centre kept) until both children fit.
     for child in [l, r] {
-        let c = bin[child].sphere;
-        let need =
-            crate::geometry::sphere::distance_f64(&c.center, &sphere.center) + c.radius as f64;
-        if need > sphere.radius as f64 {
-            sphere.radius = round_up(need);
-        }
+        grow_to_hold(&mut sphere, &bin[child].sphere);
     }
     bin.push(BinNode {
         sphere,
@@ -127,24 +122,15 @@ fn collapsed_children(bin: &[BinNode], parent: usize, ratio: f32, out: &mut Vec<
 
 /// Breadth-first layout of the collapsed tree.
 fn lay_out(bin: &[BinNode], root: usize, ratio: f32) -> SphereTree {
-    let mut nodes: Vec<Node> = Vec::with_capacity(bin.len());
-    // Queue of binary nodes in output order; `nodes[i]` comes from `order[i]`.
-    let mut order = vec![root];
-    let mut kids = Vec::new();
-    let mut i = 0;
-    while i < order.len() {
-        let b = &bin[order[i]];
-        match b.children {
-            None => nodes.push(Node::leaf(b.sphere, b.triangle.0)),
+    let (tree, _) = SphereTree::breadth_first(root, |b, kids| {
+        let node = &bin[b];
+        match node.children {
+            None => (node.sphere, Some(node.triangle.0)),
             Some(_) => {
-                kids.clear();
-                collapsed_children(bin, order[i], ratio, &mut kids);
-                let first = NodeId(order.len() as u32);
-                order.extend_from_slice(&kids);
-                nodes.push(Node::inner(b.sphere, first, kids.len() as u32));
+                collapsed_children(bin, b, ratio, kids);
+                (node.sphere, None)
             }
         }
-        i += 1;
-    }
-    SphereTree::from_nodes(nodes)
+    });
+    tree
 }

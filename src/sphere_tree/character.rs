@@ -18,13 +18,12 @@
 //! (see [`refit`](super::refit)).
 
 use crate::character::{Character, JointId, Skeleton, SkinningModel};
-use crate::geometry::enclosing::{points_sphere, round_up};
-use crate::geometry::sphere::distance_f64;
+use crate::geometry::enclosing::{grow_to_hold, points_sphere};
 use crate::geometry::{Point, Sphere};
 use crate::mesh::{EdgeDedup, TriangleId};
 
 use super::build::{BuildParams, build_tree};
-use super::node::{Node, NodeId, SphereTree};
+use super::node::{NodeId, SphereTree};
 use super::refit::RefitData;
 
 /// Share of triangles a child subtree needs for its parent to be a major branch.
@@ -199,12 +198,29 @@ fn assemble(
     groups: &[Vec<usize>],
 ) -> (SphereTree, Vec<Origin>) {
     let mesh = &character.mesh;
-    let verts_of = |tree_ids: &mut dyn Iterator<Item = usize>| -> Vec<Point> {
-        tree_ids
+    let tree_root = |t: usize| joint_trees[t].1.node(NodeId::ROOT).sphere;
+    // Minimal sphere of the trees' vertices, grown to hold the children's spheres.
+    let enclose = |trees: &mut dyn Iterator<Item = usize>, kids: &[Sphere]| -> Sphere {
+        let vertices: Vec<Point> = trees
             .flat_map(|t| per_joint[joint_trees[t].0.index()].iter())
             .flat_map(|&tri| mesh.triangle(tri).vertices())
-            .collect()
+            .collect();
+        let mut s = points_sphere(&vertices);
+        for k in kids {
+            grow_to_hold(&mut s, k);
+        }
+        s
     };
+    let group_spheres: Vec<Sphere> = groups
+        .iter()
+        .map(|g| {
+            enclose(
+                &mut g.iter().copied(),
+                &g.iter().map(|&t| tree_root(t)).collect::<Vec<_>>(),
+            )
+        })
+        .collect();
+    // A group of a single joint tree is that tree's root.
     let level2: Vec<Origin> = groups
         .iter()
         .enumerate()
@@ -216,95 +232,34 @@ fn assemble(
             }
         })
         .collect();
-    let root = if level2.len() == 1 {
-        level2[0]
-    } else {
-        Origin::Root
-    };
-
-    let children = |o: Origin| -> Vec<Origin> {
-        match o {
-            Origin::Root => level2.clone(),
-            Origin::Group(g) => groups[g]
-                .iter()
-                .map(|&t| Origin::Joint(t, NodeId::ROOT))
-                .collect(),
-            Origin::Joint(t, n) => joint_trees[t]
-                .1
-                .node(n)
-                .children()
-                .map(|c| Origin::Joint(t, NodeId(c)))
-                .collect(),
+    let root_sphere = (level2.len() > 1).then(|| {
+        let kids: Vec<Sphere> = level2
+            .iter()
+            .map(|&o| match o {
+                Origin::Group(g) => group_spheres[g],
+                Origin::Joint(t, _) => tree_root(t),
+                Origin::Root => unreachable!("the root is nobody's child"),
+            })
+            .collect();
+        enclose(&mut (0..joint_trees.len()), &kids)
+    });
+    let root = root_sphere.map_or(level2[0], |_| Origin::Root);
+    SphereTree::breadth_first(root, |o, kids| match o {
+        Origin::Root => {
+            kids.extend_from_slice(&level2);
+            (
+                root_sphere.expect("a root sphere when there is a root"),
+                None,
+            )
         }
-    };
-    let mut order = vec![root];
-    let mut nodes: Vec<Node> = Vec::new();
-    let mut i = 0;
-    while i < order.len() {
-        let o = order[i];
-        let node = match o {
-            Origin::Joint(t, n) => {
-                let src = joint_trees[t].1.node(n);
-                match src.primitive() {
-                    Some(p) => Node::leaf(src.sphere, p),
-                    None => Node::inner(src.sphere, NodeId(order.len() as u32), src.child_count()),
-                }
-            }
-            Origin::Root | Origin::Group(_) => {
-                let trees: Vec<usize> = match o {
-                    Origin::Root => (0..joint_trees.len()).collect(),
-                    Origin::Group(g) => groups[g].clone(),
-                    Origin::Joint(..) => unreachable!(),
-                };
-                let kids = children(o);
-                let mut s = points_sphere(&verts_of(&mut trees.into_iter()));
-                // Nest: hold every child sphere.
-                for k in &kids {
-                    let c = sphere_of(joint_trees, groups, mesh, per_joint, *k);
-                    let need = distance_f64(&c.center, &s.center) + c.radius as f64;
-                    if need > s.radius as f64 {
-                        s.radius = round_up(need);
-                    }
-                }
-                Node::inner(s, NodeId(order.len() as u32), kids.len() as u32)
-            }
-        };
-        if !node.is_leaf() {
-            order.extend(children(o));
-        }
-        nodes.push(node);
-        i += 1;
-    }
-    (SphereTree::from_nodes(nodes), order)
-}
-
-/// Sphere of a group or joint-tree node (groups recomputed: only a handful).
-fn sphere_of(
-    joint_trees: &[(JointId, SphereTree)],
-    groups: &[Vec<usize>],
-    mesh: &crate::mesh::TriMesh,
-    per_joint: &[Vec<TriangleId>],
-    o: Origin,
-) -> Sphere {
-    match o {
-        Origin::Joint(t, n) => joint_trees[t].1.node(n).sphere,
         Origin::Group(g) => {
-            let mut s = points_sphere(
-                &groups[g]
-                    .iter()
-                    .flat_map(|&t| per_joint[joint_trees[t].0.index()].iter())
-                    .flat_map(|&tri| mesh.triangle(tri).vertices())
-                    .collect::<Vec<_>>(),
-            );
-            for &t in &groups[g] {
-                let c = joint_trees[t].1.node(NodeId::ROOT).sphere;
-                let need = distance_f64(&c.center, &s.center) + c.radius as f64;
-                if need > s.radius as f64 {
-                    s.radius = round_up(need);
-                }
-            }
-            s
+            kids.extend(groups[g].iter().map(|&t| Origin::Joint(t, NodeId::ROOT)));
+            (group_spheres[g], None)
         }
-        Origin::Root => unreachable!("the root is nobody's child"),
-    }
+        Origin::Joint(t, n) => {
+            let src = joint_trees[t].1.node(n);
+            kids.extend(src.children().map(|c| Origin::Joint(t, NodeId(c))));
+            (src.sphere, src.primitive())
+        }
+    })
 }

@@ -135,6 +135,34 @@ impl SphereTree {
         counts
     }
 
+    /// Lays a tree out breadth first from `root`. `visit(o, kids)` gives the
+    /// sphere of `o` and, for a leaf, its primitive; for an inner node it pushes
+    /// the children's origins into `kids` (given empty). Returns the tree and
+    /// the origin of every node, in node order.
+    pub(crate) fn breadth_first<O: Copy>(
+        root: O,
+        mut visit: impl FnMut(O, &mut Vec<O>) -> (Sphere, Option<u32>),
+    ) -> (SphereTree, Vec<O>) {
+        let mut order = vec![root];
+        let mut nodes = Vec::new();
+        let mut kids = Vec::new();
+        let mut i = 0;
+        while i < order.len() {
+            kids.clear();
+            let node = match visit(order[i], &mut kids) {
+                (sphere, Some(primitive)) => Node::leaf(sphere, primitive),
+                (sphere, None) => {
+                    let first = NodeId(order.len() as u32);
+                    order.extend_from_slice(&kids);
+                    Node::inner(sphere, first, kids.len() as u32)
+                }
+            };
+            nodes.push(node);
+            i += 1;
+        }
+        (SphereTree::from_nodes(nodes), order)
+    }
+
     /// Parent of every node (`u32::MAX` for the root).
     pub fn parents(&self) -> Vec<u32> {
         let mut p = vec![u32::MAX; self.nodes.len()];
