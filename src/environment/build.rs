@@ -177,6 +177,36 @@ impl Layout {
 // Shape helpers
 
 /// The quad `a b c d` (in order around it) as two triangles.
+/// Shorthand for a point in room coordinates.
+pub(crate) fn p(x: f32, y: f32, z: f32) -> Point {
+    Point::new(x, y, z)
+}
+
+/// Shorthand for a vector in room coordinates.
+pub(crate) fn v(x: f32, y: f32, z: f32) -> Vector {
+    Vector::new(x, y, z)
+}
+
+/// The parts every room shares: the floor, the ceiling and the plain south
+/// wall (`z = 0`) the free corridor runs along, for a `w × d × h` room.
+pub(crate) fn add_shell(l: &mut Layout, w: f32, d: f32, h: f32) {
+    l.add(
+        "floor",
+        ObjectKind::Floor,
+        vec![quad(p(0., 0., 0.), p(0., 0., d), p(w, 0., d), p(w, 0., 0.))],
+    );
+    l.add(
+        "ceiling",
+        ObjectKind::Ceiling,
+        vec![quad(p(0., h, 0.), p(w, h, 0.), p(w, h, d), p(0., h, d))],
+    );
+    l.add(
+        "south wall",
+        ObjectKind::Wall,
+        vec![quad(p(0., 0., 0.), p(w, 0., 0.), p(w, h, 0.), p(0., h, 0.))],
+    );
+}
+
 pub(crate) fn quad(a: Point, b: Point, c: Point, d: Point) -> Shape {
     Shape::Polygon {
         points: vec![a, b, c, d],

@@ -4,12 +4,12 @@
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
 use super::build::{
-    Layout, Section, Shape, SplitMix, along, capsule_keys, cuboid, cylinder_keys, ellipsoid_keys,
-    fit, lathe_keys, lying, quad, sweep, upright,
+    Layout, Section, Shape, SplitMix, add_shell, along, capsule_keys, cuboid, cylinder_keys,
+    ellipsoid_keys, fit, lathe_keys, lying, p, quad, sweep, upright, v,
 };
 use super::museum::{door, door_motion, wall_with_door};
 use super::{Environment, EnvironmentError, ObjectKind};
-use crate::geometry::{Point, Vector};
+use crate::geometry::Point;
 
 /// The paper's living-room size (§6).
 pub const LIVING_ROOM_VERTICES: usize = 133_139;
@@ -31,33 +31,11 @@ pub fn living_room_scaled(seed: u64, vertices: usize) -> Result<Environment, Env
     fit(&layout(seed), vertices)
 }
 
-fn p(x: f32, y: f32, z: f32) -> Point {
-    Point::new(x, y, z)
-}
-
-fn v(x: f32, y: f32, z: f32) -> Vector {
-    Vector::new(x, y, z)
-}
-
 fn layout(seed: u64) -> Layout {
     let mut rng = SplitMix::new(seed ^ 0x6C69_7669_6E67);
     let mut l = Layout::new(format!("living-room-seed{seed}"));
     let (w, d, h) = (WIDTH, DEPTH, HEIGHT);
-    l.add(
-        "floor",
-        ObjectKind::Floor,
-        vec![quad(p(0., 0., 0.), p(0., 0., d), p(w, 0., d), p(w, 0., 0.))],
-    );
-    l.add(
-        "ceiling",
-        ObjectKind::Ceiling,
-        vec![quad(p(0., h, 0.), p(w, h, 0.), p(w, h, d), p(0., h, d))],
-    );
-    l.add(
-        "south wall",
-        ObjectKind::Wall,
-        vec![quad(p(0., 0., 0.), p(w, 0., 0.), p(w, h, 0.), p(0., h, 0.))],
-    );
+    add_shell(&mut l, w, d, h);
     l.add(
         "east wall",
         ObjectKind::Wall,

@@ -6,8 +6,8 @@ use std::f32::consts::{FRAC_PI_2, PI};
 use nalgebra::Unit;
 
 use super::build::{
-    Layout, Section, Shape, SplitMix, along, capsule_keys, cuboid, cylinder_keys, ellipsoid_keys,
-    fit, lathe_keys, lying, quad, sweep, upright,
+    Layout, Section, Shape, SplitMix, add_shell, along, capsule_keys, cuboid, cylinder_keys,
+    ellipsoid_keys, fit, lathe_keys, lying, p, quad, sweep, upright, v,
 };
 use super::{Environment, EnvironmentError, ObjectKind, RigidMotion};
 use crate::geometry::{Point, Vector};
@@ -31,33 +31,11 @@ pub fn museum_scaled(seed: u64, vertices: usize) -> Result<Environment, Environm
     fit(&layout(seed), vertices)
 }
 
-fn p(x: f32, y: f32, z: f32) -> Point {
-    Point::new(x, y, z)
-}
-
-fn v(x: f32, y: f32, z: f32) -> Vector {
-    Vector::new(x, y, z)
-}
-
 fn layout(seed: u64) -> Layout {
     let mut rng = SplitMix::new(seed ^ 0x6D75_7365_756D);
     let mut l = Layout::new(format!("museum-seed{seed}"));
     let (w, d, h) = (WIDTH, DEPTH, HEIGHT);
-    l.add(
-        "floor",
-        ObjectKind::Floor,
-        vec![quad(p(0., 0., 0.), p(0., 0., d), p(w, 0., d), p(w, 0., 0.))],
-    );
-    l.add(
-        "ceiling",
-        ObjectKind::Ceiling,
-        vec![quad(p(0., h, 0.), p(w, h, 0.), p(w, h, d), p(0., h, d))],
-    );
-    l.add(
-        "south wall",
-        ObjectKind::Wall,
-        vec![quad(p(0., 0., 0.), p(w, 0., 0.), p(w, h, 0.), p(0., h, 0.))],
-    );
+    add_shell(&mut l, w, d, h);
     l.add(
         "north wall",
         ObjectKind::Wall,
