@@ -91,21 +91,13 @@ pub(crate) fn read_weights(
     buffers: &[Data],
     what: &str,
 ) -> Result<Vec<[f32; 4]>, String> {
-    let allowed = "VEC4 FLOAT, normalized UNSIGNED_BYTE or normalized UNSIGNED_SHORT";
-    if accessor.dimensions() != Dimensions::Vec4 {
-        return Err(format!(
-            "{what} must be {allowed}; found {}",
-            describe(accessor)
-        ));
-    }
-    match (accessor.data_type(), accessor.normalized()) {
-        (DataType::F32, false) => read_floats::<4>(accessor, buffers),
-        (DataType::U8 | DataType::U16, true) => read_normalized::<4>(accessor, buffers),
-        _ => Err(format!(
-            "{what} must be {allowed}; found {}",
-            describe(accessor)
-        )),
-    }
+    read_unit_vec4(
+        accessor,
+        buffers,
+        what,
+        "VEC4 FLOAT, normalized UNSIGNED_BYTE or normalized UNSIGNED_SHORT",
+        &[DataType::U8, DataType::U16],
+    )
 }
 
 /// Rotation keyframes: VEC4 FLOAT or normalized BYTE, UNSIGNED_BYTE, SHORT,
@@ -115,22 +107,40 @@ pub(crate) fn read_rotations(
     buffers: &[Data],
     what: &str,
 ) -> Result<Vec<[f32; 4]>, String> {
-    let allowed = "VEC4 FLOAT or normalized BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT";
-    if accessor.dimensions() != Dimensions::Vec4 {
+    read_unit_vec4(
+        accessor,
+        buffers,
+        what,
+        "VEC4 FLOAT or normalized BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT",
+        &[DataType::I8, DataType::U8, DataType::I16, DataType::U16],
+    )
+}
+
+/// VEC4 of FLOAT, or of one of the `normalized` integer types, as floats;
+/// anything else is an error naming `what` and the `allowed` forms.
+fn read_unit_vec4(
+    accessor: &Accessor<'_>,
+    buffers: &[Data],
+    what: &str,
+    allowed: &str,
+    normalized: &[DataType],
+) -> Result<Vec<[f32; 4]>, String> {
+    let fits = accessor.dimensions() == Dimensions::Vec4
+        && match (accessor.data_type(), accessor.normalized()) {
+            (DataType::F32, false) => true,
+            (t, true) => normalized.contains(&t),
+            _ => false,
+        };
+    if !fits {
         return Err(format!(
             "{what} must be {allowed}; found {}",
             describe(accessor)
         ));
     }
-    match (accessor.data_type(), accessor.normalized()) {
-        (DataType::F32, false) => read_floats::<4>(accessor, buffers),
-        (DataType::I8 | DataType::U8 | DataType::I16 | DataType::U16, true) => {
-            read_normalized::<4>(accessor, buffers)
-        }
-        _ => Err(format!(
-            "{what} must be {allowed}; found {}",
-            describe(accessor)
-        )),
+    if accessor.data_type() == DataType::F32 {
+        read_floats::<4>(accessor, buffers)
+    } else {
+        read_normalized::<4>(accessor, buffers)
     }
 }
 

@@ -510,10 +510,7 @@ impl CharacterLoader<'_> {
         weights: &mut Vec<[f32; 4]>,
         ranges: &mut Vec<PrimitiveRange>,
     ) -> Result<(), LoadError> {
-        let mesh_ref = MeshRef {
-            index: mesh.index(),
-            name: mesh.name().map(str::to_owned),
-        };
+        let mesh_ref = MeshRef::of(mesh);
         for primitive in mesh.primitives() {
             let p = primitive.index();
             let base = positions.len();

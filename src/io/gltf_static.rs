@@ -47,6 +47,15 @@ pub struct MeshRef {
     pub name: Option<String>,
 }
 
+impl MeshRef {
+    pub(crate) fn of(mesh: &gltf::Mesh<'_>) -> Self {
+        Self {
+            index: mesh.index(),
+            name: mesh.name().map(str::to_owned),
+        }
+    }
+}
+
 impl fmt::Display for MeshRef {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match &self.name {
@@ -749,10 +758,7 @@ impl Loader<'_> {
         mesh: &gltf::Mesh<'_>,
         placement: &Matrix4<f64>,
     ) -> Result<(), LoadError> {
-        let mesh_ref = MeshRef {
-            index: mesh.index(),
-            name: mesh.name().map(str::to_owned),
-        };
+        let mesh_ref = MeshRef::of(mesh);
         for primitive in mesh.primitives() {
             let p = primitive.index();
             let base = self.positions.len();
