@@ -1,5 +1,8 @@
 //! `cornertree inspect` end to end: real assets, JSON keys, and bad input.
 
+mod common;
+use common::base64;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -127,7 +130,7 @@ fn one_primitive_gltf(name: &str, positions: [[f32; 3]; 3], mode: u32) -> PathBu
             bytes.extend_from_slice(&c.to_le_bytes());
         }
     }
-    let b64 = base64_encode(&bytes);
+    let b64 = base64(&bytes);
     let (min, max) = ([-1.0, -1.0, -1.0], [1.0, 1.0, 1.0]);
     let json = format!(
         r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
@@ -139,27 +142,6 @@ fn one_primitive_gltf(name: &str, positions: [[f32; 3]; 3], mode: u32) -> PathBu
     let p = scratch(name);
     std::fs::write(&p, json).unwrap();
     p
-}
-
-fn base64_encode(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for chunk in data.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for i in 0..4 {
-            if i <= chunk.len() {
-                s.push(T[(n >> (18 - 6 * i) & 63) as usize] as char);
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
 }
 
 #[test]

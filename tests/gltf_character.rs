@@ -2,6 +2,9 @@
 //! matrix-palette check of CesiumMan's skinning, and small generated files for
 //! error paths and every influence/keyframe format.
 
+mod common;
+use common::{Scratch, base64};
+
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -305,52 +308,6 @@ fn cesium_man_skinning_matches_independent_matrix_palette() {
 // ---------------------------------------------------------------------------
 // Generated files.
 
-/// A fresh directory under the system temp dir, removed on drop.
-struct Scratch(PathBuf);
-
-impl Scratch {
-    fn new(test: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("cornertree-gltfchar-{}-{test}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("create temp dir");
-        Self(dir)
-    }
-
-    fn write(&self, name: &str, contents: &str) -> PathBuf {
-        let path = self.0.join(name);
-        std::fs::write(&path, contents).expect("write temp file");
-        path
-    }
-}
-
-impl Drop for Scratch {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn base64(bytes: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
-
 /// Accessors in one data-URI buffer, one buffer view each.
 #[derive(Default)]
 struct Builder {
@@ -499,7 +456,7 @@ fn load_error(scratch: &Scratch, name: &str, contents: &str) -> String {
 #[test]
 fn generated_two_bone_character_loads_and_bends() {
     let scratch = Scratch::new("ok");
-    let path = scratch.write("ok.gltf", &two_bone_file(J, W, true, ""));
+    let path = scratch.write("ok.gltf", two_bone_file(J, W, true, ""));
     let (c, report) = load_character(&path).unwrap();
     assert_eq!(c.skeleton.len(), 2);
     assert_eq!(c.skeleton.joints()[0].name, "hip");
@@ -576,7 +533,7 @@ fn sampler_count_mismatch_is_an_error() {
 #[test]
 fn unknown_clip_lists_the_clips() {
     let scratch = Scratch::new("clip");
-    let path = scratch.write("clip.gltf", &two_bone_file(J, W, true, ""));
+    let path = scratch.write("clip.gltf", two_bone_file(J, W, true, ""));
     let (c, _) = load_character(&path).unwrap();
     let msg = c.clip(Some("nope")).unwrap_err().to_string();
     assert_eq!(msg, r#"no clip named "nope"; clips: bend"#);
@@ -638,7 +595,7 @@ fn every_influence_and_keyframe_format() {
                  {{"sampler": 0, "target": {{"node": 0, "path": "weights"}}}}]}}]"#
     );
     let scratch = Scratch::new("formats");
-    let path = scratch.write("formats.gltf", &b.finish(&body));
+    let path = scratch.write("formats.gltf", b.finish(&body));
     let (c, report) = load_character(&path).unwrap();
 
     // Hip first, then knee: skin joint k maps to JointId 1 - k.
