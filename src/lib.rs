@@ -14,6 +14,7 @@
 //! | [`io`] | glTF loading | |
 //! | [`environment`] | generated rooms (museum, living room) of big and small triangles, moving doors; static glTF scenes | §4, §6 |
 //! | [`pipeline`] | methods, the environment hierarchy per method | §5–6 |
+//! | [`record`] | Rerun recordings of runs and of the paper's figures | §3–6, Figs. 1–3 |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
 //! | [`scenario`] | scenario files (TOML): character, clip, room, placement (start, path, gap to a surface), methods | §6 |
 //!
@@ -26,6 +27,7 @@ pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod pipeline;
+pub mod record;
 pub mod report;
 pub mod scenario;
 pub mod sphere_tree;

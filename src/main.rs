@@ -37,6 +37,18 @@ enum Command {
     /// environment's tree, run the narrow phase, and count tests, operations,
     /// refits and time; print the summary table (maximum and mean per frame).
     Run(run_cmd::RunArgs),
+    /// Write recordings that reproduce the paper's Figures 1-3: a triangle left
+    /// out by edge de-duplication among its three neighbours; a big triangle's
+    /// enclosing sphere and its four sub-spheres; a corner-tree level by level.
+    Figures(FiguresArgs),
+}
+
+#[derive(clap::Args)]
+struct FiguresArgs {
+    /// Directory to write figure1_dedup.rrd, figure2_sphere_division.rrd and
+    /// figure3_corner_tree.rrd into (created if needed).
+    #[arg(long, default_value = "recordings/figures")]
+    out: std::path::PathBuf,
 }
 
 #[derive(clap::Args)]
@@ -310,12 +322,33 @@ fn refit_text(c: &Character, r: &RefitReport) -> String {
     s
 }
 
+fn figures(args: FiguresArgs) -> anyhow::Result<()> {
+    let written = cornertree::record::figures::write_figures(&args.out)?;
+    let mut out = String::new();
+    for f in &written {
+        out += &format!("{}: {}\n", f.name, f.path.display());
+    }
+    emit(&out)
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    use clap::{CommandFactory, FromArgMatches};
+    let matches = Cli::command().get_matches();
+    let cli = match Cli::from_arg_matches(&matches) {
+        Ok(cli) => cli,
+        Err(e) => e.exit(),
+    };
     let result = match cli.command {
         Command::Inspect(args) => inspect(args),
         Command::Tables(args) => tables(args),
-        Command::Run(args) => run_cmd::run(args).and_then(|out| emit(&out)),
+        Command::Run(args) => {
+            let sub = matches
+                .subcommand_matches("run")
+                .expect("the run subcommand was parsed");
+            let target = run_cmd::recording_target(&args, sub);
+            run_cmd::run(args, target).and_then(|out| emit(&out))
+        }
+        Command::Figures(args) => figures(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

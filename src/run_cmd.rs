@@ -1,15 +1,21 @@
-//! `cornertree run`: a scenario through every chosen method, frame by frame.
-//! (Kept beside `main.rs`: command-line plumbing only; the work is in the library.)
+//! `cornertree run`: a scenario through every chosen method, frame by frame,
+//! recorded to Rerun. (Kept beside `main.rs`: command-line plumbing only; the
+//! work is in the library.)
 
-use std::io::IsTerminal;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
+use clap::parser::ValueSource;
 use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::{Pipeline, PipelineOptions, pose_frame};
+use cornertree::record::blueprint::run_blueprint;
+use cornertree::record::target::RecordingTarget;
+use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
 use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable};
-use cornertree::scenario::{load_scenario, resolve};
+use cornertree::scenario::{Resolved, load_scenario, resolve};
 use cornertree::sphere_tree::BuildParams;
 
 #[derive(clap::Args)]
@@ -27,9 +33,77 @@ pub struct RunArgs {
     /// several, `{"scenario", "runs": [those objects]}`.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Write no recording (by default each method is saved to
+    /// recordings/<scenario>-<method>.rrd unless --save, --connect, --spawn or
+    /// --stdout says otherwise; see docs/recordings.md).
+    #[arg(long, conflicts_with_all = ["save", "connect", "stdout"])]
+    pub no_record: bool,
+    #[command(flatten)]
+    pub rerun: rerun::clap::RerunArgs,
 }
 
-pub fn run(args: RunArgs) -> anyhow::Result<String> {
+/// Where recordings go, from what was actually typed: rerun's arguments
+/// default to spawning a viewer, ours to saving a file.
+pub fn recording_target(args: &RunArgs, matches: &clap::ArgMatches) -> RecordingTarget {
+    let typed = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+    if args.no_record {
+        RecordingTarget::None
+    } else if typed("stdout") {
+        RecordingTarget::Rerun(args.rerun.clone(), true)
+    } else if let Some(path) = matches.get_one::<PathBuf>("save") {
+        RecordingTarget::Save(path.clone())
+    } else if typed("connect") || typed("spawn") {
+        RecordingTarget::Rerun(args.rerun.clone(), false)
+    } else {
+        RecordingTarget::Default
+    }
+}
+
+/// Set by Ctrl-C: the frame loop stops after the current frame.
+fn interrupt_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let f = flag.clone();
+    // A second handler cannot be installed (only one run per process); a run
+    // without it still works, Ctrl-C then ends it the default way.
+    let _ = ctrlc::set_handler(move || f.store(true, Ordering::SeqCst));
+    flag
+}
+
+fn scenario_markdown(name: &str, r: &Resolved, frames: usize, method: Method) -> String {
+    let mut s = format!(
+        "## {name}: {}\n\n| | |\n|---|---|\n| character | {} ({} vertices, {} triangles) |\n\
+         | environment | {} ({} triangles) |\n| frames | {frames} at {} fps |\n\
+         | skinning | {:?} |\n| edge de-duplication | {} |\n| big-triangle threshold | {} m |\n",
+        method.name(),
+        r.character.name,
+        r.character.mesh.vertex_count(),
+        r.character.mesh.triangle_count(),
+        r.environment.name,
+        r.environment.mesh.triangle_count(),
+        r.fps,
+        r.skinning,
+        if r.dedup { "on" } else { "off" },
+        r.threshold,
+    );
+    if let Some(g) = &r.gap {
+        s += &format!(
+            "| placement | gap {:.4} m from {} (closest at frame {}) |\n",
+            g.achieved, g.surface, g.closest_frame
+        );
+    }
+    s
+}
+
+/// Deletes files of recordings that did not finish (an error, not Ctrl-C).
+fn discard(paths: &[PathBuf]) {
+    for p in paths {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
+    // Everything that can be wrong with the input fails here, before any file
+    // is created.
     let scenario = load_scenario(&args.scenario)?;
     let base_dir = args
         .scenario
@@ -40,6 +114,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
     if !args.methods.is_empty() {
         resolved.methods = args.methods.clone();
     }
+    target.check(resolved.methods.len())?;
     let frames = args.frames.map_or(resolved.frames(), |f| f as usize);
     let name = args
         .scenario
@@ -52,6 +127,16 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
         threshold: resolved.threshold,
         build: BuildParams::default(),
     };
+    let progress = indicatif::ProgressBar::new(frames as u64);
+    progress.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{prefix} [{bar:30}] {pos}/{len} frames, {elapsed} (eta {eta}) {msg}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    progress.set_prefix(name.clone());
+    progress.set_message("building hierarchies");
     let character = &resolved.character;
     let env = &resolved.environment.mesh;
     let mut pipes: Vec<Pipeline> = resolved
@@ -59,6 +144,34 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
         .iter()
         .map(|&m| Pipeline::new(character, env, m, options))
         .collect();
+
+    // One recording per method.
+    let record_options = RecordOptions {
+        all_spheres: resolved.recording.all_spheres,
+        mesh_every: resolved.recording.mesh_every,
+    };
+    let mut created: Vec<PathBuf> = Vec::new();
+    let mut recorders: Vec<Option<RunRecorder>> = Vec::new();
+    for p in &pipes {
+        let opened = target
+            .open(&name, p.method.name(), pipes.len(), run_blueprint())
+            .inspect_err(|_| discard(&created))?;
+        let Some(o) = opened else {
+            recorders.push(None);
+            continue;
+        };
+        if let Some(path) = &o.path {
+            created.push(path.clone());
+        }
+        let info = SceneInfo {
+            scenario: &name,
+            markdown: scenario_markdown(&name, &resolved, frames, p.method),
+        };
+        let r = RunRecorder::new(o.stream, record_options, &info, p, character, env)
+            .inspect_err(|_| discard(&created))?;
+        recorders.push(Some(r));
+    }
+
     let mut runs: Vec<MethodRun> = pipes
         .iter()
         .map(|p| MethodRun {
@@ -69,31 +182,66 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
             frames: Vec::with_capacity(frames),
         })
         .collect();
+    let interrupted = interrupt_flag();
     let mut buffers = PoseBuffers::new(character);
-    let progress = std::io::stderr().is_terminal();
     let clip = resolved.clip();
+    progress.set_message("");
+    let mut played = 0;
     for k in 0..frames {
+        if interrupted.load(Ordering::SeqCst) {
+            break;
+        }
         let placement = resolved.placement_at(k).to_homogeneous();
+        let t = resolved.time_at(k);
         let (base, skin_ms) = pose_frame(
             &mut buffers,
             character,
             clip,
-            resolved.time_at(k),
+            t,
             &placement,
             resolved.skinning,
         );
-        for (p, r) in pipes.iter_mut().zip(&mut runs) {
+        for ((p, r), rec) in pipes.iter_mut().zip(&mut runs).zip(&mut recorders) {
             let mut c = p.detect(&buffers, &base, &character.mesh, env);
             c.time.skinning_ms = skin_ms;
             r.frames.push(FrameRecord::new(k, &c, &p.pairs));
+            if let Some(rec) = rec {
+                // Written to disk every frame: a killed run leaves a recording
+                // of every frame before the kill.
+                let logged = rec
+                    .log_frame(k, t, p, &buffers, &base, character, env, &c)
+                    .map_err(anyhow::Error::from)
+                    .and_then(|()| {
+                        rec.stream()
+                            .flush_blocking()
+                            .map_err(|e| anyhow::anyhow!("{e}"))
+                    });
+                if let Err(e) = logged {
+                    discard(&created);
+                    return Err(e.context(format!("recording frame {k} of {}", p.method)));
+                }
+            }
         }
-        if progress {
-            eprint!("\r{name}: frame {}/{frames}", k + 1);
+        played = k + 1;
+        progress.inc(1);
+    }
+    progress.finish_and_clear();
+    let stopped = played < frames;
+    let note = if stopped {
+        format!("interrupted (Ctrl-C) after {played} of {frames} frames")
+    } else {
+        format!("finished {frames} frames")
+    };
+    let mut recorded = Vec::new();
+    for (rec, p) in recorders.into_iter().zip(&pipes) {
+        if let Some(rec) = rec {
+            rec.finish(&note)
+                .with_context(|| format!("finishing the recording of {}", p.method))?;
+            recorded.push(rec.frames_logged());
+            drop(rec);
         }
     }
-    if progress {
-        eprintln!();
-    }
+
     let summaries: Vec<Summary> = runs.iter().map(MethodRun::summary).collect();
     if let Some(path) = &args.json {
         let text = match runs.as_slice() {
@@ -104,7 +252,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
             .with_context(|| format!("{}: cannot write the report", path.display()))?;
     }
     let mut out = format!(
-        "{name}: {} ({} vertices) in {} ({} triangles), {frames} frames at {} fps, {} skinning{}\n",
+        "{name}: {} ({} vertices) in {} ({} triangles), {played} frames at {} fps, {} skinning{}\n",
         character.name,
         character.mesh.vertex_count(),
         resolved.environment.name,
@@ -120,6 +268,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
             ""
         },
     );
+    if stopped {
+        out += &format!("{note}: the summary covers the frames played\n");
+    }
     if let Some(g) = &resolved.gap {
         out += &format!(
             "placement: gap {:.4} m from {} (asked {:.4} m; closest at frame {})\n",
@@ -130,5 +281,18 @@ pub fn run(args: RunArgs) -> anyhow::Result<String> {
     if let Some(path) = &args.json {
         out += &format!("report: {}\n", path.display());
     }
+    for path in &created {
+        out += &format!("recording: {} ({})\n", path.display(), file_size(path));
+    }
+    if matches!(target, RecordingTarget::Rerun(..)) && !recorded.is_empty() {
+        out += "recording: sent to the Rerun viewer\n";
+    }
     Ok(out)
+}
+
+fn file_size(path: &Path) -> String {
+    match std::fs::metadata(path) {
+        Ok(m) => format!("{:.1} MB", m.len() as f64 / 1e6),
+        Err(_) => "size unknown".into(),
+    }
 }

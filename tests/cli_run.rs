@@ -37,7 +37,17 @@ fn run_json(extra: &[&str], out: &Path) -> serde_json::Value {
 
 #[test]
 fn one_method_report_has_the_documented_keys() {
-    let v = run_json(&["--method", "sphere-division"], &scratch("one.json"));
+    let rrd = scratch("one.rrd");
+    let v = run_json(
+        &[
+            "--method",
+            "sphere-division",
+            "--save",
+            rrd.to_str().unwrap(),
+        ],
+        &scratch("one.json"),
+    );
+    assert!(rrd.is_file(), "--save writes the recording");
     for key in ["scenario", "method", "hierarchy_bytes", "frames"] {
         assert!(v.get(key).is_some(), "{key} missing");
     }
@@ -86,8 +96,8 @@ fn same_scenario_same_counters_and_pairs() {
             })
             .collect()
     };
-    let a = run_json(&[], &scratch("a.json"));
-    let b = run_json(&[], &scratch("b.json"));
+    let a = run_json(&["--no-record"], &scratch("a.json"));
+    let b = run_json(&["--no-record"], &scratch("b.json"));
     assert_eq!(
         a["runs"].as_array().unwrap().len(),
         4,
@@ -98,23 +108,38 @@ fn same_scenario_same_counters_and_pairs() {
 
 #[test]
 fn bad_scenarios_fail_cleanly() {
-    let cases: [(&str, &str, &[&str]); 3] = [
-        ("syntax.toml", "frames = [\n", &["syntax.toml:"]),
+    let good_rest = "[character]\nsource = \"generated:humanoid?vertices=2000\"\n[environment]\nkind = \"museum\"\n[placement]\nstart = { translation = [1.0, 0.0, 1.0] }\n";
+    let cases: Vec<(&str, String, Vec<&str>)> = vec![
+        ("syntax.toml", "frames = [\n".into(), vec!["syntax.toml:"]),
         (
             "unknown.toml",
-            "colour = 3\n[character]\nsource = \"generated:humanoid\"\n",
-            &["unknown.toml:", "colour"],
+            "colour = 3\n[character]\nsource = \"generated:humanoid\"\n".into(),
+            vec!["unknown.toml:", "colour"],
         ),
         (
             "method.toml",
-            "methods = [\"fastest\"]\n[character]\nsource = \"generated:humanoid\"\n[environment]\nkind = \"museum\"\n[placement]\nstart = { translation = [1.0, 0.0, 1.0] }\n",
-            &["method.toml:", "fastest"],
+            format!("methods = [\"fastest\"]\n{good_rest}"),
+            vec!["method.toml:", "fastest"],
+        ),
+        (
+            "negative.toml",
+            format!("frames = -3\n{good_rest}"),
+            vec!["negative.toml:1:", "frames", "-3"],
+        ),
+        (
+            "asset.toml",
+            "[character]\nsource = \"no/such/character.glb\"\n[environment]\nkind = \"museum\"\n[placement]\nstart = { translation = [1.0, 0.0, 1.0] }\n".into(),
+            vec!["asset.toml", "no/such/character.glb"],
         ),
     ];
     for (name, text, words) in cases {
-        let p = scratch(name);
+        // Each case runs in an empty directory: a failed run must not leave a
+        // recording behind (by default they go to ./recordings).
+        let dir = scratch(&format!("bad-{name}"));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
-        let o = bin().arg("run").arg(&p).output().unwrap();
+        let o = bin().arg("run").arg(&p).current_dir(&dir).output().unwrap();
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(1), "{name}: {err}");
         assert!(!err.contains("panicked"), "{name}: {err}");
@@ -122,6 +147,10 @@ fn bad_scenarios_fail_cleanly() {
         for w in words {
             assert!(err.contains(w), "{name}: {err} lacks {w}");
         }
+        assert!(
+            !dir.join("recordings").exists(),
+            "{name}: a failed run left a recordings directory"
+        );
     }
     let o = bin()
         .args(["run", "no/such/scenario.toml"])

@@ -244,6 +244,17 @@ impl Pipeline {
         c
     }
 
+    /// Refits every character sphere for this frame's pose (for display: it
+    /// is not part of the measured work and changes no counter already taken).
+    pub fn refit_all(&mut self, buffers: &PoseBuffers, base: &Matrix4<f32>) {
+        Refitter {
+            tree: &self.character_tree,
+            skin: &buffers.skin,
+            state: &mut self.refit,
+        }
+        .refit_all(base);
+    }
+
     pub fn options(&self) -> &PipelineOptions {
         &self.options
     }

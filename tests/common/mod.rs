@@ -1,6 +1,8 @@
 //! Generated test meshes shared by integration tests.
 #![allow(dead_code)]
 
+pub mod rrd;
+
 use std::path::PathBuf;
 
 use cornertree::geometry::Point;
@@ -225,6 +227,14 @@ impl Scratch {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).expect("create temp dir");
         Self(dir)
+    }
+
+    pub fn dir(&self) -> &std::path::Path {
+        &self.0
+    }
+
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
     }
 
     pub fn write(&self, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {

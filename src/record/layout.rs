@@ -1,0 +1,93 @@
+//! Entity paths and colours shared by the recorders, the blueprint, the tests
+//! and docs/recordings.md.
+
+use crate::sphere_tree::SphereTree;
+
+/// Timeline of frame numbers (sequence).
+pub const FRAME: &str = "frame";
+/// Timeline of clip time (seconds).
+pub const CLIP_TIME: &str = "clip_time";
+
+pub const WORLD: &str = "world";
+pub const ENV_MESH: &str = "world/environment/mesh";
+pub const ENV_SPHERES: &str = "world/environment/spheres";
+pub const ENV_SUBDIVISION: &str = "world/environment/subdivision";
+pub const AVATAR_MESH: &str = "world/avatar/mesh";
+pub const AVATAR_SKELETON: &str = "world/avatar/skeleton";
+pub const AVATAR_SPHERES: &str = "world/avatar/spheres";
+pub const COLLIDING_AVATAR: &str = "cd/colliding/avatar";
+pub const COLLIDING_ENVIRONMENT: &str = "cd/colliding/environment";
+pub const COLLIDING_SPHERES: &str = "cd/colliding/plane_sphere";
+pub const STATS: &str = "stats";
+pub const EVENTS: &str = "events";
+pub const FRAME_REPORT: &str = "frame_report";
+pub const INFO: &str = "info";
+
+/// `…/level_{k}` under a spheres root.
+pub fn level_path(root: &str, level: usize) -> String {
+    format!("{root}/level_{level:02}")
+}
+
+/// The counters logged as scalars, with their entity paths under `stats/`.
+pub const COUNTER_PATHS: [&str; 6] = [
+    "stats/tests/sphere_sphere",
+    "stats/tests/tri_tri",
+    "stats/tests/plane_sphere",
+    "stats/operations",
+    "stats/refits",
+    "stats/pairs",
+];
+/// Time per stage, milliseconds.
+pub const TIME_PATHS: [&str; 5] = [
+    "stats/time_ms/skinning",
+    "stats/time_ms/refit",
+    "stats/time_ms/traversal",
+    "stats/time_ms/narrow",
+    "stats/time_ms/total",
+];
+
+pub type Rgba = [u8; 4];
+
+pub const ENV_COLOR: Rgba = [170, 170, 175, 255];
+pub const AVATAR_COLOR: Rgba = [110, 160, 220, 255];
+pub const SKELETON_COLOR: Rgba = [240, 240, 90, 255];
+pub const HIT_AVATAR_COLOR: Rgba = [230, 40, 40, 255];
+pub const HIT_ENV_COLOR: Rgba = [255, 150, 20, 255];
+pub const SUBDIVISION_COLOR: Rgba = [40, 200, 120, 255];
+
+/// A colour per hierarchy level, from warm (root) to cool (leaves),
+/// translucent so nested spheres stay readable.
+pub fn level_color(level: usize, levels: usize) -> Rgba {
+    const RAMP: [[u8; 3]; 6] = [
+        [230, 80, 60],
+        [240, 160, 40],
+        [220, 220, 60],
+        [90, 200, 90],
+        [60, 170, 220],
+        [140, 90, 220],
+    ];
+    let t = if levels <= 1 {
+        0.0
+    } else {
+        level as f32 / (levels - 1) as f32
+    };
+    let x = t * (RAMP.len() - 1) as f32;
+    let i = (x.floor() as usize).min(RAMP.len() - 2);
+    let f = x - i as f32;
+    let mix = |a: u8, b: u8| (a as f32 + (b as f32 - a as f32) * f).round() as u8;
+    let (a, b) = (RAMP[i], RAMP[i + 1]);
+    [mix(a[0], b[0]), mix(a[1], b[1]), mix(a[2], b[2]), 110]
+}
+
+/// The level (root = 0) of every node of `tree`.
+pub fn node_levels(tree: &SphereTree) -> Vec<u8> {
+    let mut level = vec![0u8; tree.len()];
+    for (i, n) in tree.nodes().iter().enumerate() {
+        if !n.is_leaf() {
+            for c in n.children() {
+                level[c as usize] = level[i].saturating_add(1);
+            }
+        }
+    }
+    level
+}

@@ -1,0 +1,123 @@
+//! Reads `.rrd` recordings back (rerun's `rrd` decoder), for tests.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+use rerun::external::re_log_encoding::DecoderApp;
+use rerun::log::{Chunk, LogMsg};
+use rerun::{ComponentIdentifier, StoreKind};
+
+/// The recording store's chunks of a file.
+pub struct Rrd {
+    pub chunks: Vec<Chunk>,
+    /// Whether a blueprint store came with it.
+    pub has_blueprint: bool,
+    /// The first decoding error (a truncated file ends with one).
+    pub error: Option<String>,
+}
+
+pub fn read_rrd(path: &Path) -> Rrd {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut rrd = Rrd {
+        chunks: Vec::new(),
+        has_blueprint: false,
+        error: None,
+    };
+    for msg in DecoderApp::decode_lazy(std::io::BufReader::new(file)) {
+        match msg {
+            Ok(LogMsg::ArrowMsg(store, m)) => {
+                if store.kind() == StoreKind::Recording {
+                    rrd.chunks.push(Chunk::from_arrow_msg(&m).expect("a chunk"));
+                } else {
+                    rrd.has_blueprint = true;
+                }
+            }
+            Ok(_) => {}
+            Err(e) => {
+                rrd.error = Some(e.to_string());
+                break;
+            }
+        }
+    }
+    rrd
+}
+
+fn path_of(c: &Chunk) -> String {
+    c.entity_path()
+        .to_string()
+        .trim_start_matches('/')
+        .to_string()
+}
+
+impl Rrd {
+    pub fn entity_paths(&self) -> BTreeSet<String> {
+        self.chunks.iter().map(path_of).collect()
+    }
+
+    /// `(frame, instance count)` of every row of `component` on `entity`;
+    /// static rows have frame `None`.
+    pub fn rows(&self, entity: &str, component: ComponentIdentifier) -> Vec<(Option<i64>, usize)> {
+        self.rows_on("frame", entity, component)
+    }
+
+    /// As [`Self::rows`] on another timeline.
+    pub fn rows_on(
+        &self,
+        timeline: &str,
+        entity: &str,
+        component: ComponentIdentifier,
+    ) -> Vec<(Option<i64>, usize)> {
+        let mut out = Vec::new();
+        for c in self.chunks.iter().filter(|c| path_of(c) == entity) {
+            let lens = c.iter_component_offsets(component).map(|s| s.len);
+            let times = c
+                .iter_component_indices(
+                    rerun::TimelineName::try_new(timeline).expect("a timeline name"),
+                    component,
+                )
+                .map(|(t, _)| (!c.is_static()).then(|| t.as_i64()));
+            out.extend(times.zip(lens));
+        }
+        out.sort();
+        out
+    }
+
+    /// Instance count per frame (static rows left out).
+    pub fn counts_per_frame(
+        &self,
+        entity: &str,
+        component: ComponentIdentifier,
+    ) -> BTreeMap<i64, usize> {
+        self.rows(entity, component)
+            .into_iter()
+            .filter_map(|(t, n)| t.map(|t| (t, n)))
+            .collect()
+    }
+
+    /// Frames at which `entity` has any data.
+    pub fn frames(&self, entity: &str) -> BTreeSet<i64> {
+        let mut out = BTreeSet::new();
+        for c in self.chunks.iter().filter(|c| path_of(c) == entity) {
+            if let Some(col) = c.timelines().get(&"frame".into()) {
+                out.extend(col.times().map(|t| t.as_i64()));
+            }
+        }
+        out
+    }
+
+    /// The scalar logged on `entity` at each frame.
+    pub fn scalars(&self, entity: &str) -> BTreeMap<i64, f64> {
+        let id = rerun::Scalars::descriptor_scalars().component;
+        let mut out = BTreeMap::new();
+        for c in self.chunks.iter().filter(|c| path_of(c) == entity) {
+            let times = c
+                .iter_component_indices("frame".into(), id)
+                .map(|(t, _)| t.as_i64());
+            let values = c.iter_component::<rerun::components::Scalar>(id);
+            for (t, v) in times.zip(values) {
+                out.insert(t, v[0].0.0);
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,423 @@
+//! Recordings read back: entity layout, the frame timeline, logged values
+//! against the JSON report and the trees, interruption, figures.
+
+mod common;
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::Scratch;
+use common::rrd::{Rrd, read_rrd};
+use cornertree::big_triangle::hierarchy::MAX_LEVELS;
+use cornertree::big_triangle::{Division, DivisionKind};
+use cornertree::mesh::TriangleId;
+use cornertree::pipeline::Method;
+use cornertree::pipeline::driver::{Pipeline, PipelineOptions};
+use cornertree::record::figures::{dedup_example, example_big_triangle};
+use cornertree::record::layout;
+use cornertree::scenario::{load_scenario, resolve};
+use cornertree::sphere_tree::BuildParams;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_cornertree"))
+}
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn cesium_scenario() -> PathBuf {
+    root().join("scenarios/cesium_man.toml")
+}
+
+/// A copy of cesium_man.toml with an absolute asset path and `extra` appended.
+fn cesium_variant(scratch: &Scratch, name: &str, extra: &str) -> PathBuf {
+    let text = std::fs::read_to_string(cesium_scenario()).unwrap().replace(
+        "../assets/CesiumMan.glb",
+        root().join("assets/CesiumMan.glb").to_str().unwrap(),
+    );
+    scratch.write(name, format!("{text}\n{extra}\n"))
+}
+
+fn run_ok(args: &[&str], cwd: Option<&Path>) -> String {
+    let mut cmd = bin();
+    cmd.args(args);
+    if let Some(d) = cwd {
+        cmd.current_dir(d);
+    }
+    let o = cmd.output().unwrap();
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn positions() -> rerun::ComponentIdentifier {
+    rerun::Points3D::descriptor_positions().component
+}
+
+fn mesh_positions() -> rerun::ComponentIdentifier {
+    rerun::Mesh3D::descriptor_vertex_positions().component
+}
+
+/// The pipeline `run` builds for cesium_man.toml, built here from the library.
+fn cesium_pipeline(method: Method) -> (cornertree::scenario::Resolved, Pipeline) {
+    let s = load_scenario(&cesium_scenario()).unwrap();
+    let r = resolve(&s, &root().join("scenarios")).unwrap();
+    let options = PipelineOptions {
+        skinning: r.skinning,
+        dedup: r.dedup,
+        threshold: r.threshold,
+        build: BuildParams::default(),
+    };
+    let p = Pipeline::new(&r.character, &r.environment.mesh, method, options);
+    (r, p)
+}
+
+fn levels_logged(rrd: &Rrd, root: &str) -> usize {
+    rrd.entity_paths()
+        .iter()
+        .filter(|p| p.starts_with(&format!("{root}/level_")))
+        .count()
+}
+
+#[test]
+fn run_recording_has_the_layout_and_the_reported_values() {
+    let scratch = Scratch::new("rec-layout");
+    let rrd_path = scratch.path("cm.rrd");
+    let json_path = scratch.path("cm.json");
+    let frames = 5;
+    run_ok(
+        &[
+            "run",
+            cesium_scenario().to_str().unwrap(),
+            "--frames",
+            &frames.to_string(),
+            "--method",
+            "plane-sphere",
+            "--save",
+            rrd_path.to_str().unwrap(),
+            "--json",
+            json_path.to_str().unwrap(),
+        ],
+        None,
+    );
+    let rrd = read_rrd(&rrd_path);
+    assert_eq!(rrd.error, None, "the recording decodes to its end");
+    assert!(
+        rrd.has_blueprint,
+        "a blueprint is stored with the recording"
+    );
+    let paths = rrd.entity_paths();
+    for p in [
+        layout::ENV_MESH,
+        layout::AVATAR_MESH,
+        layout::AVATAR_SKELETON,
+        "world/avatar/spheres/level_00",
+        "world/environment/spheres/level_00",
+        layout::ENV_SUBDIVISION,
+        layout::COLLIDING_AVATAR,
+        layout::COLLIDING_ENVIRONMENT,
+        layout::COLLIDING_SPHERES,
+        layout::EVENTS,
+        layout::FRAME_REPORT,
+        layout::INFO,
+    ]
+    .iter()
+    .chain(layout::COUNTER_PATHS.iter())
+    .chain(layout::TIME_PATHS.iter())
+    {
+        assert!(paths.contains(*p), "{p} missing from {paths:?}");
+    }
+
+    // The frame timeline holds exactly the frames played.
+    let expected: BTreeSet<i64> = (0..frames).collect();
+    for p in layout::COUNTER_PATHS {
+        assert_eq!(rrd.frames(p), expected, "{p}");
+    }
+    assert_eq!(rrd.frames(layout::AVATAR_MESH), expected);
+
+    // Logged counters equal the JSON report, frame by frame.
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    let report_frames = report["frames"].as_array().unwrap();
+    let keys = [
+        "sphere_sphere",
+        "tri_tri",
+        "plane_sphere",
+        "operations",
+        "refits",
+    ];
+    for (path, key) in layout::COUNTER_PATHS.iter().zip(keys) {
+        let logged = rrd.scalars(path);
+        for (k, f) in report_frames.iter().enumerate() {
+            assert_eq!(
+                logged[&(k as i64)],
+                f[key].as_u64().unwrap() as f64,
+                "{path} frame {k}"
+            );
+        }
+    }
+    let pairs_logged = rrd.scalars("stats/pairs");
+
+    // Static scene: the whole environment mesh, once.
+    let (resolved, pipeline) = cesium_pipeline(Method::PlaneSphere);
+    let env_rows = rrd.rows(layout::ENV_MESH, mesh_positions());
+    assert_eq!(
+        env_rows,
+        vec![(None, resolved.environment.mesh.vertex_count())]
+    );
+    // The character's mesh every frame, every vertex.
+    for (t, n) in rrd.counts_per_frame(layout::AVATAR_MESH, mesh_positions()) {
+        assert_eq!(n, resolved.character.mesh.vertex_count(), "frame {t}");
+    }
+
+    // Character spheres shown = spheres refit this frame (visited on demand).
+    let levels = levels_logged(&rrd, layout::AVATAR_SPHERES);
+    assert_eq!(levels, pipeline.character_tree.tree.depth());
+    for (k, f) in report_frames.iter().enumerate() {
+        let shown: usize = (0..levels)
+            .map(|l| {
+                rrd.counts_per_frame(&layout::level_path(layout::AVATAR_SPHERES, l), positions())
+                    [&(k as i64)]
+            })
+            .sum();
+        assert_eq!(shown as u64, f["refits"].as_u64().unwrap(), "frame {k}");
+
+        // Colliding character triangles: three vertices each, one per distinct triangle.
+        let pairs = f["pairs"].as_array().unwrap();
+        assert_eq!(pairs.len() as f64, pairs_logged[&(k as i64)]);
+        let avatar: BTreeSet<u64> = pairs.iter().map(|p| p[0].as_u64().unwrap()).collect();
+        let hit = rrd.counts_per_frame(layout::COLLIDING_AVATAR, mesh_positions());
+        assert_eq!(hit[&(k as i64)], 3 * avatar.len(), "frame {k}");
+    }
+}
+
+#[test]
+fn all_spheres_option_logs_every_level_of_both_trees() {
+    let scratch = Scratch::new("rec-all");
+    let scenario = cesium_variant(&scratch, "all.toml", "[recording]\nall_spheres = true");
+    let rrd_path = scratch.path("all.rrd");
+    run_ok(
+        &[
+            "run",
+            scenario.to_str().unwrap(),
+            "--frames",
+            "2",
+            "--method",
+            "plane-sphere",
+            "--save",
+            rrd_path.to_str().unwrap(),
+        ],
+        None,
+    );
+    let rrd = read_rrd(&rrd_path);
+    let (_, pipeline) = cesium_pipeline(Method::PlaneSphere);
+    let avatar_levels = pipeline.character_tree.tree.nodes_per_level();
+    assert_eq!(
+        levels_logged(&rrd, layout::AVATAR_SPHERES),
+        avatar_levels.len()
+    );
+    for (l, &n) in avatar_levels.iter().enumerate() {
+        let counts =
+            rrd.counts_per_frame(&layout::level_path(layout::AVATAR_SPHERES, l), positions());
+        assert_eq!(counts.len(), 2, "level {l}: every frame");
+        assert!(
+            counts.values().all(|&c| c == n),
+            "level {l}: {counts:?} vs {n}"
+        );
+    }
+    let env_levels = pipeline.environment.tree.nodes_per_level();
+    assert_eq!(levels_logged(&rrd, layout::ENV_SPHERES), env_levels.len());
+    for (l, &n) in env_levels.iter().enumerate() {
+        let rows = rrd.rows(&layout::level_path(layout::ENV_SPHERES, l), positions());
+        assert_eq!(rows, vec![(None, n)], "environment level {l} (static)");
+    }
+}
+
+#[test]
+fn default_recording_goes_to_the_recordings_directory() {
+    let scratch = Scratch::new("rec-default");
+    let out = run_ok(
+        &[
+            "run",
+            cesium_scenario().to_str().unwrap(),
+            "--frames",
+            "2",
+            "--method",
+            "original",
+        ],
+        Some(scratch.dir()),
+    );
+    let file = scratch.dir().join("recordings/cesium_man-original.rrd");
+    assert!(file.is_file(), "{out}");
+    assert!(
+        out.contains("recording: recordings/cesium_man-original.rrd ("),
+        "says where: {out}"
+    );
+    assert_eq!(read_rrd(&file).frames("stats/operations").len(), 2);
+}
+
+/// Starts a long run and waits until its recording holds a few frames.
+fn start_long_run(scratch: &Scratch, name: &str) -> (std::process::Child, PathBuf, PathBuf) {
+    let rrd = scratch.path(&format!("{name}.rrd"));
+    let json = scratch.path(&format!("{name}.json"));
+    let child = bin()
+        .args([
+            "run",
+            cesium_scenario().to_str().unwrap(),
+            "--frames",
+            "100000",
+            "--method",
+            "plane-sphere",
+            "--save",
+            rrd.to_str().unwrap(),
+            "--json",
+            json.to_str().unwrap(),
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let t0 = Instant::now();
+    loop {
+        if rrd.is_file() && read_rrd(&rrd).frames("stats/operations").len() >= 3 {
+            break;
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(120),
+            "no frames recorded"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    (child, rrd, json)
+}
+
+fn signal(child: &std::process::Child, sig: &str) {
+    let ok = Command::new("kill")
+        .args([sig, &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(ok.success());
+}
+
+#[test]
+fn ctrl_c_ends_with_the_summary_and_a_complete_recording() {
+    let scratch = Scratch::new("rec-sigint");
+    let (child, rrd, json) = start_long_run(&scratch, "int");
+    signal(&child, "-INT");
+    let o = child.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(stdout.contains("interrupted (Ctrl-C) after"), "{stdout}");
+    assert!(stdout.contains("Operations"), "summary table: {stdout}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let played = report["frames"].as_array().unwrap().len();
+    let rec = read_rrd(&rrd);
+    assert_eq!(rec.error, None, "complete recording");
+    let frames = rec.frames("stats/operations");
+    assert_eq!(
+        frames,
+        (0..played as i64).collect(),
+        "every frame played is recorded"
+    );
+}
+
+#[test]
+fn a_killed_run_leaves_a_readable_recording() {
+    let scratch = Scratch::new("rec-sigkill");
+    let (mut child, rrd, _) = start_long_run(&scratch, "kill");
+    signal(&child, "-KILL");
+    child.wait().unwrap();
+    let rec = read_rrd(&rrd);
+    let frames = rec.frames("stats/operations");
+    assert!(frames.len() >= 3, "frames before the kill: {frames:?}");
+    assert_eq!(frames, (0..frames.len() as i64).collect(), "no gaps");
+    assert!(rec.entity_paths().contains(layout::ENV_MESH));
+}
+
+#[test]
+fn figures_reproduce_the_papers_constructions() {
+    let scratch = Scratch::new("rec-figures");
+    let out = run_ok(&["figures", "--out", scratch.dir().to_str().unwrap()], None);
+    for f in [
+        "figure1_dedup.rrd",
+        "figure2_sphere_division.rrd",
+        "figure3_corner_tree.rrd",
+    ] {
+        assert!(out.contains(f), "{out}");
+        let r = read_rrd(&scratch.dir().join(f));
+        assert_eq!(r.error, None, "{f}");
+        assert!(r.has_blueprint, "{f}");
+    }
+
+    // Figure 1: one red triangle, three neighbours.
+    let f1 = read_rrd(&scratch.dir().join("figure1_dedup.rrd"));
+    assert_eq!(f1.rows("world/left_out", mesh_positions()), vec![(None, 3)]);
+    for k in 1..=3 {
+        assert_eq!(
+            f1.rows(&format!("world/kept_neighbour_{k}"), mesh_positions()),
+            vec![(None, 3)]
+        );
+    }
+
+    // Figure 2: the enclosing sphere and four sub-spheres.
+    let f2 = read_rrd(&scratch.dir().join("figure2_sphere_division.rrd"));
+    let centers = rerun::Ellipsoids3D::descriptor_centers().component;
+    assert_eq!(f2.rows("world/spheres/enclosing", centers), vec![(None, 1)]);
+    assert_eq!(f2.rows("world/spheres/sub", centers), vec![(None, 4)]);
+
+    // Figure 3: one step per level; the spheres of each level are the
+    // corner-tree's nodes of that level.
+    let f3 = read_rrd(&scratch.dir().join("figure3_corner_tree.rrd"));
+    let d = Division::build(
+        &example_big_triangle(),
+        TriangleId(0),
+        DivisionKind::Corner,
+        0.15,
+        MAX_LEVELS,
+    );
+    let per_level = d.nodes_per_level();
+    assert!(per_level.len() >= 4, "{per_level:?}");
+    let rows = f3.rows_on("level", "world/spheres", centers);
+    let logged: Vec<usize> = rows.iter().map(|&(_, n)| n).collect();
+    assert_eq!(logged, per_level);
+    let levels: Vec<Option<i64>> = rows.iter().map(|&(t, _)| t).collect();
+    assert_eq!(
+        levels,
+        (0..per_level.len() as i64).map(Some).collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn figure1_triangle_is_covered_by_its_three_neighbours() {
+    let c = cornertree::character::generate_humanoid(&cornertree::character::HumanoidParams {
+        vertices: 3000,
+        seed: 1,
+    })
+    .unwrap();
+    let mesh = &c.mesh;
+    let (t, n) = dedup_example(mesh).expect("an example exists");
+    let dedup = cornertree::mesh::dedup_edges(mesh);
+    assert!(!dedup.is_kept(t));
+    // Independently of the de-duplication code: each edge of `t`, as a pair of
+    // positions, is an edge of a different kept neighbour.
+    let key = |p: &cornertree::geometry::Point| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    let edges = |id: TriangleId| {
+        let tr = mesh.triangle(id);
+        let v = [key(&tr.a), key(&tr.b), key(&tr.c)];
+        [(v[0], v[1]), (v[1], v[2]), (v[2], v[0])].map(|(a, b)| (a.min(b), a.max(b)))
+    };
+    let mine = edges(t);
+    for (k, e) in mine.iter().enumerate() {
+        assert!(dedup.is_kept(n[k]));
+        assert!(edges(n[k]).contains(e), "neighbour {k} lacks edge {k}");
+    }
+    let distinct: BTreeSet<u32> = n.iter().map(|x| x.0).collect();
+    assert_eq!(distinct.len(), 3);
+}
