@@ -12,6 +12,7 @@ use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::{Pipeline, PipelineOptions, pose_frame};
 use cornertree::record::blueprint::run_blueprint;
+use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
 use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
 use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable};
@@ -149,12 +150,18 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
     let record_options = RecordOptions {
         all_spheres: resolved.recording.all_spheres,
         mesh_every: resolved.recording.mesh_every,
+        spheres_every: resolved.recording.spheres_every,
     };
     let mut created: Vec<PathBuf> = Vec::new();
     let mut recorders: Vec<Option<RunRecorder>> = Vec::new();
     for p in &pipes {
         let opened = target
-            .open(&name, p.method.name(), pipes.len(), run_blueprint())
+            .open(
+                &name,
+                p.method.name(),
+                pipes.len(),
+                run_blueprint(layout::display_level(&p.character_tree.tree)),
+            )
             .inspect_err(|_| discard(&created))?;
         let Some(o) = opened else {
             recorders.push(None);

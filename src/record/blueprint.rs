@@ -1,61 +1,88 @@
 //! The layouts recordings open on.
 
+use rerun::blueprint::components::{PanelState, PlayState};
 use rerun::blueprint::{
-    Blueprint, ContainerLike, Horizontal, Spatial3DView, Tabs, TextDocumentView, TextLogView,
-    TimeSeriesView, Vertical,
+    Blueprint, BlueprintPanel, ContainerLike, Horizontal, SelectionPanel, Spatial3DView, Tabs,
+    TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
 use super::layout;
 
-/// A run: the whole scene and a close-up on the character (its spheres, the
-/// environment spheres and sub-triangles it reached, the colliding pairs)
-/// above, the counters as time series and this frame's report, the event
-/// log and the scenario beside them.
-pub fn run_blueprint() -> Blueprint {
+/// A run. Left: the contacts close up (character mesh and skeleton, colliding
+/// triangles, environment spheres and sub-triangles reached), the character's
+/// spheres of level `sphere_level` (any other level can be switched on in
+/// the blueprint panel), and the whole scene. Right: the counters as time
+/// series; this frame's report, the event log and the scenario.
+pub fn run_blueprint(sphere_level: usize) -> Blueprint {
+    let contacts = Spatial3DView::new("contacts")
+        .with_origin("/")
+        .with_contents([
+            "/world/avatar/mesh",
+            "/world/avatar/skeleton",
+            "/world/environment/spheres/**",
+            "/world/environment/subdivision",
+            "/cd/**",
+        ]);
+    let level = layout::level_path(layout::AVATAR_SPHERES, sphere_level);
+    let spheres = Spatial3DView::new(format!("character spheres, level {sphere_level}"))
+        .with_origin("/")
+        .with_contents([format!("/{level}"), "/cd/**".to_string()]);
     let scene = Spatial3DView::new("scene").with_origin("/").with_contents([
         "/world/**",
         "/cd/**",
         "- /world/environment/spheres/**",
         "- /world/avatar/spheres/**",
     ]);
-    let close_up = Spatial3DView::new("close-up: spheres and contacts")
-        .with_origin("/")
-        .with_contents([
-            "/world/avatar/**",
-            "/world/environment/spheres/**",
-            "/world/environment/subdivision",
-            "/cd/**",
-        ]);
-    let tests = TimeSeriesView::new("tests per frame").with_origin("/stats/tests");
-    let ops = TimeSeriesView::new("operations (paper's model)").with_contents([
-        "/stats/operations",
-        "/stats/pairs",
-        "/stats/refits",
-    ]);
+    let tests = TimeSeriesView::new("tests and refits per frame")
+        .with_contents(["/stats/tests/**", "/stats/refits"]);
+    let ops = TimeSeriesView::new("operations (paper's model)").with_origin("/stats/operations");
+    let pairs = TimeSeriesView::new("colliding pairs").with_origin("/stats/pairs");
     let time = TimeSeriesView::new("time per stage (ms)").with_origin("/stats/time_ms");
     let report =
         TextDocumentView::new("this frame").with_origin(format!("/{}", layout::FRAME_REPORT));
     let info = TextDocumentView::new("scenario").with_origin(format!("/{}", layout::INFO));
     let events = TextLogView::new("events").with_origin(format!("/{}", layout::EVENTS));
     let views: Vec<ContainerLike> = vec![
-        Vertical::new([close_up.into(), scene.into()])
-            .with_row_shares([3.0, 2.0])
-            .into(),
+        Vertical::new([
+            Horizontal::new([contacts.into(), spheres.into()]).into(),
+            scene.into(),
+        ])
+        .with_row_shares([3.0, 2.0])
+        .into(),
         Vertical::new([
             tests.into(),
             ops.into(),
+            pairs.into(),
             time.into(),
             Tabs::new([report.into(), events.into(), info.into()]).into(),
         ])
         .into(),
     ];
-    Blueprint::new(Horizontal::new(views).with_column_shares([3.0, 2.0])).with_auto_views(false)
+    Blueprint::new(Horizontal::new(views).with_column_shares([3.0, 2.0]))
+        .with_auto_views(false)
+        .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+        .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+        .with_time_panel(
+            TimePanel::new()
+                .with_state(PanelState::Collapsed)
+                .with_timeline(layout::FRAME)
+                .with_play_state(PlayState::Paused),
+        )
 }
 
-/// A figure: one 3D view of everything and its caption.
-pub fn figure_blueprint(title: &str) -> Blueprint {
+/// A figure: one 3D view of everything and its caption; the time panel only
+/// when the figure has a `timeline` to step through.
+pub fn figure_blueprint(title: &str, timeline: Option<&str>) -> Blueprint {
     let view = Spatial3DView::new(title).with_origin("/");
     let caption = TextDocumentView::new("caption").with_origin(format!("/{}", layout::INFO));
     Blueprint::new(Horizontal::new([view.into(), caption.into()]).with_column_shares([4.0, 1.0]))
         .with_auto_views(false)
+        .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+        .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+        .with_time_panel(match timeline {
+            Some(t) => TimePanel::new()
+                .with_state(PanelState::Collapsed)
+                .with_timeline(t),
+            None => TimePanel::new().with_state(PanelState::Hidden),
+        })
 }

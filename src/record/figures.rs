@@ -65,11 +65,16 @@ fn wire(spheres: &[Sphere], color: Rgba) -> rerun::Ellipsoids3D {
     .with_fill_mode(rerun::FillMode::MajorWireframe)
 }
 
-fn open(dir: &Path, file: &str, title: &str) -> Result<(RecordingStream, PathBuf), FigureError> {
+fn open(
+    dir: &Path,
+    file: &str,
+    title: &str,
+    timeline: Option<&str>,
+) -> Result<(RecordingStream, PathBuf), FigureError> {
     let path = dir.join(file);
     let rec = rerun::RecordingStreamBuilder::new("cornertree")
         .recording_name(title)
-        .with_blueprint(figure_blueprint(title))
+        .with_blueprint(figure_blueprint(title, timeline))
         .save(&path)
         .map_err(|e| FigureError::Write(path.clone(), e.to_string()))?;
     Ok((rec, path))
@@ -143,7 +148,7 @@ fn figure1(dir: &Path) -> Result<Figure, FigureError> {
         .filter(|&o| o != t.0 && !n.iter().any(|x| x.0 == o))
         .filter(|&o| mesh.indices()[o as usize].iter().any(|v| verts.contains(v)))
         .collect();
-    let (rec, path) = open(dir, "figure1_dedup.rrd", title)?;
+    let (rec, path) = open(dir, "figure1_dedup.rrd", title, None)?;
     let w = |e: rerun::RecordingStreamError| FigureError::Write(path.clone(), e.to_string());
     let pos = mesh.positions();
     let idx = mesh.indices();
@@ -229,7 +234,7 @@ fn figure2(dir: &Path) -> Result<Figure, FigureError> {
     let parts = whole.split();
     let big = triangle_sphere(&t);
     let small: Vec<Sphere> = parts.iter().map(|p| triangle_sphere(&p.triangle)).collect();
-    let (rec, path) = open(dir, "figure2_sphere_division.rrd", title)?;
+    let (rec, path) = open(dir, "figure2_sphere_division.rrd", title, None)?;
     let w = |e: rerun::RecordingStreamError| FigureError::Write(path.clone(), e.to_string());
     rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
         .map_err(w)?;
@@ -286,7 +291,7 @@ fn figure3(dir: &Path) -> Result<Figure, FigureError> {
     let full = Division::build(&t, TriangleId(0), DivisionKind::Full, threshold, MAX_LEVELS);
     let levels = layout::node_levels(&d.tree);
     let level_count = levels.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
-    let (rec, path) = open(dir, "figure3_corner_tree.rrd", title)?;
+    let (rec, path) = open(dir, "figure3_corner_tree.rrd", title, Some("level"))?;
     let w = |e: rerun::RecordingStreamError| FigureError::Write(path.clone(), e.to_string());
     rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
         .map_err(w)?;

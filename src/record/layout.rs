@@ -91,3 +91,13 @@ pub fn node_levels(tree: &SphereTree) -> Vec<u8> {
     }
     level
 }
+
+/// The character level shown by default in a run's sphere view: the first
+/// with at least 200 spheres (a body-shaped cloud), else the deepest.
+pub fn display_level(tree: &SphereTree) -> usize {
+    let per_level = tree.nodes_per_level();
+    per_level
+        .iter()
+        .position(|&n| n >= 200)
+        .unwrap_or(per_level.len().saturating_sub(1))
+}

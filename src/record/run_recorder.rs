@@ -18,9 +18,11 @@ pub struct RecordOptions {
     /// Every sphere of every level each frame, not only those the traversal
     /// reached (the environment's once, as static data).
     pub all_spheres: bool,
-    /// Log the character's mesh every this many frames (spheres, pairs and
-    /// counters are logged every frame).
+    /// Log the character's mesh every this many frames.
     pub mesh_every: u32,
+    /// Log spheres and sub-triangles every this many frames (the skeleton,
+    /// the colliding pairs and the counters go in every frame).
+    pub spheres_every: u32,
 }
 
 impl Default for RecordOptions {
@@ -28,6 +30,7 @@ impl Default for RecordOptions {
         Self {
             all_spheres: false,
             mesh_every: 1,
+            spheres_every: 1,
         }
     }
 }
@@ -214,70 +217,11 @@ impl RunRecorder {
                 .with_radii([rerun::Radius::new_ui_points(1.5)]),
         )?;
 
-        // Character spheres per level: those refit this frame, or all.
-        if self.options.all_spheres {
-            pipeline.refit_all(buffers, base);
+        if k % self.options.spheres_every as usize == 0 {
+            self.log_spheres(pipeline, buffers, base)?;
         }
+        let rec = &self.rec;
         let state = pipeline.refit_state();
-        let avatar_tree = &pipeline.character_tree.tree;
-        let all = self.options.all_spheres;
-        let by_level = spheres_by_level(
-            state.spheres.iter().copied(),
-            &self.avatar_levels,
-            self.avatar_level_count,
-            |i| all || state.is_fresh(crate::sphere_tree::NodeId(i as u32)),
-        );
-        for (level, (c, r)) in by_level.into_iter().enumerate() {
-            rec.log(
-                layout::level_path(layout::AVATAR_SPHERES, level),
-                &points(c, r, layout::level_color(level, self.avatar_level_count)),
-            )?;
-        }
-
-        // Environment spheres the traversal tested, near the character.
-        let env_tree = &pipeline.environment.tree;
-        self.visits.replay(avatar_tree, &state.spheres, env_tree);
-        let near = if avatar_tree.is_empty() {
-            0.0
-        } else {
-            2.0 * state.spheres[0].radius
-        };
-        if !all {
-            let tested = &self.visits.tested;
-            let by_level = spheres_by_level(
-                env_tree.nodes().iter().map(|n| n.sphere),
-                &self.env_levels,
-                self.env_level_count,
-                |i| tested[i] && env_tree.nodes()[i].sphere.radius <= near,
-            );
-            for (level, (c, r)) in by_level.into_iter().enumerate() {
-                rec.log(
-                    layout::level_path(layout::ENV_SPHERES, level),
-                    &points(c, r, layout::level_color(level, self.env_level_count)),
-                )?;
-            }
-        }
-
-        // Sub-triangles of big triangles whose division nodes were tested.
-        let envt = &pipeline.environment;
-        let strips: Vec<[[f32; 3]; 4]> = self
-            .visits
-            .tested
-            .iter()
-            .enumerate()
-            .filter(|&(_, &v)| v)
-            .filter_map(|(i, _)| envt.division_node[i])
-            .map(|(d, n)| {
-                let t = envt.divisions[d as usize].pieces[n as usize].triangle;
-                [p3(&t.a), p3(&t.b), p3(&t.c), p3(&t.a)]
-            })
-            .collect();
-        rec.log(
-            layout::ENV_SUBDIVISION,
-            &rerun::LineStrips3D::new(strips)
-                .with_colors([layout::SUBDIVISION_COLOR])
-                .with_radii([rerun::Radius::new_ui_points(1.0)]),
-        )?;
 
         // Colliding pairs: the triangles on both sides; for plane-sphere hits
         // also the character leaf sphere that met the big triangle's plane.
@@ -378,6 +322,91 @@ impl RunRecorder {
                 .with_media_type(rerun::MediaType::markdown()),
         )?;
         self.frames_logged += 1;
+        Ok(())
+    }
+
+    /// The spheres of both trees per level and the sub-triangles reached.
+    fn log_spheres(
+        &mut self,
+        pipeline: &mut Pipeline,
+        buffers: &PoseBuffers,
+        base: &Matrix4<f32>,
+    ) -> rerun::RecordingStreamResult<()> {
+        let rec = &self.rec;
+        // Character spheres per level: those refit this frame, or all.
+        if self.options.all_spheres {
+            pipeline.refit_all(buffers, base);
+        }
+        let state = pipeline.refit_state();
+        let avatar_tree = &pipeline.character_tree.tree;
+        let all = self.options.all_spheres;
+        let by_level = spheres_by_level(
+            state.spheres.iter().copied(),
+            &self.avatar_levels,
+            self.avatar_level_count,
+            |i| all || state.is_fresh(crate::sphere_tree::NodeId(i as u32)),
+        );
+        for (level, (c, r)) in by_level.into_iter().enumerate() {
+            rec.log(
+                layout::level_path(layout::AVATAR_SPHERES, level),
+                &points(c, r, layout::level_color(level, self.avatar_level_count)),
+            )?;
+        }
+
+        // Environment spheres the traversal tested, near the character.
+        let env_tree = &pipeline.environment.tree;
+        self.visits.replay(avatar_tree, &state.spheres, env_tree);
+        // Only spheres up to half the character's size that meet its root
+        // sphere: the upper levels span the room and would hide the rest.
+        let root = if avatar_tree.is_empty() {
+            Sphere {
+                center: Point::origin(),
+                radius: 0.0,
+            }
+        } else {
+            state.spheres[0]
+        };
+        let near = |s: &Sphere, max: f32| s.radius <= max * root.radius && s.overlaps(&root);
+        if !all {
+            let tested = &self.visits.tested;
+            let by_level = spheres_by_level(
+                env_tree.nodes().iter().map(|n| n.sphere),
+                &self.env_levels,
+                self.env_level_count,
+                |i| tested[i] && near(&env_tree.nodes()[i].sphere, 0.5),
+            );
+            for (level, (c, r)) in by_level.into_iter().enumerate() {
+                rec.log(
+                    layout::level_path(layout::ENV_SPHERES, level),
+                    &rerun::Ellipsoids3D::from_centers_and_radii(c, r)
+                        .with_colors([layout::level_color(level, self.env_level_count)])
+                        .with_fill_mode(rerun::FillMode::MajorWireframe)
+                        .with_line_radii([rerun::Radius::new_ui_points(0.5)]),
+                )?;
+            }
+        }
+
+        // Sub-triangles of big triangles whose division nodes were tested
+        // (those up to the character's size).
+        let envt = &pipeline.environment;
+        let strips: Vec<[[f32; 3]; 4]> = self
+            .visits
+            .tested
+            .iter()
+            .enumerate()
+            .filter(|&(i, &v)| v && near(&envt.tree.nodes()[i].sphere, 1.0))
+            .filter_map(|(i, _)| envt.division_node[i])
+            .map(|(d, n)| {
+                let t = envt.divisions[d as usize].pieces[n as usize].triangle;
+                [p3(&t.a), p3(&t.b), p3(&t.c), p3(&t.a)]
+            })
+            .collect();
+        rec.log(
+            layout::ENV_SUBDIVISION,
+            &rerun::LineStrips3D::new(strips)
+                .with_colors([layout::SUBDIVISION_COLOR])
+                .with_radii([rerun::Radius::new_ui_points(1.0)]),
+        )?;
         Ok(())
     }
 

@@ -109,14 +109,20 @@ pub struct Gap {
     pub yaw_degrees: Option<Real>,
 }
 
-/// `[recording]`: options kept for later commands.
+/// `[recording]`: what `run` puts in its recordings (docs/recordings.md).
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Recording {
+    /// Every sphere of every level, not only those the traversal reached.
     #[serde(default)]
     pub all_spheres: bool,
+    /// The character's mesh every this many frames.
     #[serde(default = "one")]
     pub mesh_every: u32,
+    /// Spheres and sub-triangles every this many frames (counters, pairs and
+    /// the skeleton are logged every frame).
+    #[serde(default = "one")]
+    pub spheres_every: u32,
 }
 
 impl Default for Recording {
@@ -124,6 +130,7 @@ impl Default for Recording {
         Self {
             all_spheres: false,
             mesh_every: 1,
+            spheres_every: 1,
         }
     }
 }
@@ -468,12 +475,13 @@ impl Scenario {
             None => DEFAULT_THRESHOLD,
         };
         let recording = match raw.recording {
-            Some(r) if r.get_ref().mesh_every == 0 => {
-                return Err(err_at(
-                    r.span(),
-                    "recording.mesh_every",
-                    "must be at least 1".into(),
-                ));
+            Some(r) if r.get_ref().mesh_every == 0 || r.get_ref().spheres_every == 0 => {
+                let field = if r.get_ref().mesh_every == 0 {
+                    "recording.mesh_every"
+                } else {
+                    "recording.spheres_every"
+                };
+                return Err(err_at(r.span(), field, "must be at least 1".into()));
             }
             Some(r) => r.into_inner(),
             None => Recording::default(),
