@@ -4,12 +4,14 @@
 //! |---|---|
 //! | [`gltf_static`] | every triangle of a glTF/GLB scene in its static pose, world space |
 //! | [`gltf_character`] | the skinned character of a glTF/GLB scene: skeleton, bind-pose mesh, influences, clips |
+//! | [`ply`] | writing triangle meshes as PLY (`run --dump-frame`) |
 //! | [`source`] | a character source: a glTF file or `generated:humanoid?vertices=N&seed=S` |
 //! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by both loaders) |
 
 mod gltf_accessor;
 pub mod gltf_character;
 pub mod gltf_static;
+pub mod ply;
 pub mod source;
 
 pub use gltf_character::load_character;

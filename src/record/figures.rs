@@ -316,8 +316,10 @@ fn figure3(dir: &Path) -> Result<Figure, FigureError> {
             .iter()
             .filter(|&&i| (levels[i] as usize) < level)
             .flat_map(|&i| {
+                // Lifted 2 mm off the triangle's plane so it does not z-fight.
                 let tr = d.pieces[i].triangle;
-                [tr.a, tr.b, tr.c]
+                let lift = nalgebra::Vector3::new(0.0, 0.0, 0.002);
+                [tr.a + lift, tr.b + lift, tr.c + lift]
             })
             .collect();
         let central_idx: Vec<[u32; 3]> = (0..central.len() as u32 / 3)

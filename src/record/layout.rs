@@ -48,7 +48,8 @@ pub const TIME_PATHS: [&str; 5] = [
 
 pub type Rgba = [u8; 4];
 
-pub const ENV_COLOR: Rgba = [170, 170, 175, 255];
+/// Translucent, so the character shows through walls from any side.
+pub const ENV_COLOR: Rgba = [170, 170, 175, 90];
 pub const AVATAR_COLOR: Rgba = [110, 160, 220, 255];
 pub const SKELETON_COLOR: Rgba = [240, 240, 90, 255];
 pub const HIT_AVATAR_COLOR: Rgba = [230, 40, 40, 255];

@@ -193,7 +193,7 @@ impl RunRecorder {
         rec.set_duration_secs(layout::CLIP_TIME, t as f64);
 
         // Character mesh and skeleton.
-        if k % self.options.mesh_every as usize == 0 {
+        if k.is_multiple_of(self.options.mesh_every as usize) {
             rec.log(
                 layout::AVATAR_MESH,
                 &rerun::Mesh3D::update_fields()
@@ -217,7 +217,7 @@ impl RunRecorder {
                 .with_radii([rerun::Radius::new_ui_points(1.5)]),
         )?;
 
-        if k % self.options.spheres_every as usize == 0 {
+        if k.is_multiple_of(self.options.spheres_every as usize) {
             self.log_spheres(pipeline, buffers, base)?;
         }
         let rec = &self.rec;

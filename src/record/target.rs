@@ -107,3 +107,39 @@ impl RecordingTarget {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_names() {
+        let d = RecordingTarget::Default;
+        assert_eq!(
+            d.file_for("museum", "plane-sphere", 4),
+            Some(PathBuf::from("recordings/museum-plane-sphere.rrd"))
+        );
+        let s = RecordingTarget::Save(PathBuf::from("out/x.rrd"));
+        assert_eq!(
+            s.file_for("m", "original", 1),
+            Some(PathBuf::from("out/x.rrd"))
+        );
+        assert_eq!(
+            s.file_for("m", "original", 2),
+            Some(PathBuf::from("out/x-original.rrd"))
+        );
+        assert_eq!(RecordingTarget::None.file_for("m", "original", 1), None);
+        assert!(
+            RecordingTarget::Rerun(
+                <rerun::clap::RerunArgs as clap::FromArgMatches>::from_arg_matches(
+                    &<rerun::clap::RerunArgs as clap::Args>::augment_args(clap::Command::new("t"))
+                        .get_matches_from(["t"])
+                )
+                .unwrap(),
+                true
+            )
+            .check(2)
+            .is_err()
+        );
+    }
+}
