@@ -1,0 +1,46 @@
+//! Ground truth: which (character triangle, environment triangle) pairs really
+//! collide in a frame, and how a method's answer compares with it.
+//!
+//! | file | what |
+//! |---|---|
+//! | [`parry_reference`] | [`ParryReference`]: parry3d's triangle meshes and BVH leaf pairs, decided by parry's triangle-triangle test (GJK) or by the exact oracle; a brute-force exact helper |
+//! | [`disagreement`] | the pairs two answers differ on, each classified as touching, near-degenerate or a true error |
+//! | [`accuracy`] | precision and recall per frame and over a run, at the levels of pairs, character triangles and frames |
+//!
+//! Every pair list here is a sorted list of distinct `(character triangle,
+//! environment triangle)` indices, as `Pipeline::detect` gives them.
+//!
+//! parry's own test is GJK in `f32`, not exact: it reports some pairs that
+//! miss by ~1e-6 to 1e-5 of the scene size and, rarely, a thin triangle's
+//! pair that misses by far more. [`ParryReference::exact_pairs`] (parry's
+//! broad phase, the exact oracle as narrow phase) is the exact answer;
+//! [`ParryReference::pairs`] is parry's.
+
+pub mod accuracy;
+pub mod disagreement;
+pub mod parry_reference;
+
+pub use accuracy::{Accuracy, AccuracyTotals, FrameAccuracy};
+pub use disagreement::{Classified, Disagreement, Kind, Tolerances, triangle_distance};
+pub use parry_reference::{ParryReference, brute_force_pairs};
+
+/// Why a ground-truth query cannot be answered.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+pub enum TruthError {
+    #[error("the {0} has no triangles")]
+    NoTriangles(&'static str),
+    #[error(
+        "character triangle {triangle} refers to vertex {index}, but the pose has only {vertex_count} vertices"
+    )]
+    IndexOutOfRange {
+        triangle: usize,
+        index: u32,
+        vertex_count: usize,
+    },
+    #[error("the pose has {got} vertices, the first pose had {expected}")]
+    VertexCountChanged { expected: usize, got: usize },
+    #[error("posed vertex {0} is not finite")]
+    NonFinitePosition(usize),
+    #[error("pair ({character}, {environment}) names a triangle that does not exist")]
+    PairOutOfRange { character: u32, environment: u32 },
+}
