@@ -9,6 +9,7 @@ use clap::{Parser, Subcommand};
 use cornertree::character::{Character, SkinningModel, generate_humanoid};
 use cornertree::io::{CharacterSource, load_character, load_static_mesh};
 use cornertree::mesh::TriMesh;
+use cornertree::record::target::RecordingTarget;
 use cornertree::report::animate::{AnimateOptions, RefitReport, animate};
 use cornertree::report::inspect::{InspectOptions, inspect_mesh};
 use cornertree::sphere_tree::BuildParams;
@@ -346,7 +347,17 @@ fn main() -> ExitCode {
                 .subcommand_matches("run")
                 .expect("the run subcommand was parsed");
             let target = run_cmd::recording_target(&args, sub);
-            run_cmd::run(args, target).and_then(|out| emit(&out))
+            // With --stdout the recording owns standard output; the summary
+            // goes to standard error.
+            let to_stderr = matches!(target, RecordingTarget::Rerun(_, true));
+            run_cmd::run(args, target).and_then(|out| {
+                if to_stderr {
+                    eprint!("{out}");
+                    Ok(())
+                } else {
+                    emit(&out)
+                }
+            })
         }
         Command::Figures(args) => figures(args),
     };

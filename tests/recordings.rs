@@ -421,3 +421,42 @@ fn figure1_triangle_is_covered_by_its_three_neighbours() {
     let distinct: BTreeSet<u32> = n.iter().map(|x| x.0).collect();
     assert_eq!(distinct.len(), 3);
 }
+
+#[test]
+fn stdout_streams_one_method_and_refuses_several() {
+    let scratch = Scratch::new("rec-stdout");
+    let o = bin()
+        .args([
+            "run",
+            cesium_scenario().to_str().unwrap(),
+            "--frames",
+            "2",
+            "--method",
+            "original",
+            "--stdout",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let file = scratch.write("piped.rrd", &o.stdout);
+    let rec = read_rrd(&file);
+    assert_eq!(rec.error, None, "standard output holds the recording only");
+    assert_eq!(rec.frames("stats/operations").len(), 2);
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("Operations"),
+        "summary on stderr"
+    );
+
+    let o = bin()
+        .args([
+            "run",
+            cesium_scenario().to_str().unwrap(),
+            "--frames",
+            "2",
+            "--stdout",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--stdout carries one recording"));
+}
