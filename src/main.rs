@@ -38,6 +38,10 @@ enum Command {
     /// environment's tree, run the narrow phase, and count tests, operations,
     /// refits and time; print the summary table (maximum and mean per frame).
     Run(run_cmd::RunArgs),
+    /// Play a scenario through every method on the same frames against the
+    /// ground truth (exact pairs on parry's broad phase) and print one table
+    /// like the paper's Tables 2-3 plus precision and recall. No recording.
+    Compare(run_cmd::CompareArgs),
     /// Write recordings that reproduce the paper's Figures 1-3: a triangle left
     /// out by edge de-duplication among its three neighbours; a big triangle's
     /// enclosing sphere and its four sub-spheres; a corner-tree level by level.
@@ -360,6 +364,7 @@ fn main() -> ExitCode {
             })
         }
         Command::Figures(args) => figures(args),
+        Command::Compare(args) => run_cmd::compare(args).and_then(|out| emit(&out)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

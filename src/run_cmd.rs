@@ -9,15 +9,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::Context;
 use clap::parser::ValueSource;
 use cornertree::character::PoseBuffers;
-use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::{Pipeline, PipelineOptions, pose_frame};
+use cornertree::pipeline::{LeafTest, Method};
 use cornertree::record::blueprint::run_blueprint;
 use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
 use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
+use cornertree::report::run::TruthRecord;
 use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable};
 use cornertree::scenario::{Resolved, load_scenario, resolve};
 use cornertree::sphere_tree::BuildParams;
+use cornertree::truth::{FrameTruth, MethodContext};
 
 #[derive(clap::Args)]
 pub struct RunArgs {
@@ -34,6 +36,19 @@ pub struct RunArgs {
     /// several, `{"scenario", "runs": [those objects]}`.
     #[arg(long)]
     pub json: Option<PathBuf>,
+    /// Turn edge de-duplication off, whatever the scenario says.
+    #[arg(long)]
+    pub no_dedup: bool,
+    /// Skip the ground truth (exact pairs on parry's broad phase, and parry's
+    /// own answer) and the accuracy columns; faster on big scenes.
+    #[arg(long)]
+    pub no_truth: bool,
+    /// Write frame K's posed character and environment to DIR/avatar.ply and
+    /// DIR/environment.ply (face i is triangle i of every report) and
+    /// DIR/pairs.json with `reported` (the first method's pairs), `reference`
+    /// (the exact pairs), `parry` and `reported_by_method`.
+    #[arg(long, num_args = 2, value_names = ["K", "DIR"])]
+    pub dump_frame: Option<Vec<String>>,
     /// Write no recording (by default each method is saved to
     /// recordings/<scenario>-<method>.rrd unless --save, --connect, --spawn or
     /// --stdout says otherwise; see docs/recordings.md).
@@ -102,7 +117,63 @@ fn discard(paths: &[PathBuf]) {
     }
 }
 
+/// `cornertree compare`: every method on the same frames, no recording.
+#[derive(clap::Args)]
+pub struct CompareArgs {
+    /// A scenario file (TOML; see docs/scenarios.md and scenarios/).
+    pub scenario: PathBuf,
+    /// Play this many frames instead of the scenario's.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    pub frames: Option<u64>,
+    /// Write every method's per-frame report as JSON (as `run --json`).
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Print the table as Markdown.
+    #[arg(long)]
+    pub markdown: bool,
+    /// Turn edge de-duplication off, whatever the scenario says.
+    #[arg(long)]
+    pub no_dedup: bool,
+}
+
+/// How the summary table is printed.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    Text,
+    Markdown,
+}
+
+pub fn compare(args: CompareArgs) -> anyhow::Result<String> {
+    use clap::{Args, FromArgMatches};
+    let no_rerun = rerun::clap::RerunArgs::from_arg_matches(
+        &rerun::clap::RerunArgs::augment_args(clap::Command::new("compare"))
+            .get_matches_from(["compare"]),
+    )?;
+    let run_args = RunArgs {
+        scenario: args.scenario,
+        methods: Method::ALL.to_vec(),
+        frames: args.frames,
+        json: args.json,
+        no_dedup: args.no_dedup,
+        no_truth: false,
+        dump_frame: None,
+        no_record: true,
+        rerun: no_rerun,
+    };
+    let style = if args.markdown {
+        Style::Markdown
+    } else {
+        Style::Text
+    };
+    play(run_args, RecordingTarget::None, style)
+}
+
 pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
+    play(args, target, Style::Text)
+}
+
+fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<String> {
+    let started = std::time::Instant::now();
     // Everything that can be wrong with the input fails here, before any file
     // is created.
     let scenario = load_scenario(&args.scenario)?;
@@ -115,8 +186,29 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
     if !args.methods.is_empty() {
         resolved.methods = args.methods.clone();
     }
+    if args.no_dedup {
+        resolved.dedup = false;
+    }
     target.check(resolved.methods.len())?;
     let frames = args.frames.map_or(resolved.frames(), |f| f as usize);
+    let dump = match &args.dump_frame {
+        Some(v) => {
+            let k: usize = v[0].parse().map_err(|_| {
+                anyhow::anyhow!(
+                    "--dump-frame: the frame must be a whole number, not {:?}",
+                    v[0]
+                )
+            })?;
+            if k >= frames {
+                anyhow::bail!(
+                    "--dump-frame: frame {k} is past the last frame ({})",
+                    frames - 1
+                );
+            }
+            Some((k, PathBuf::from(&v[1])))
+        }
+        None => None,
+    };
     let name = args
         .scenario
         .file_stem()
@@ -144,6 +236,26 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
         .methods
         .iter()
         .map(|&m| Pipeline::new(character, env, m, options))
+        .collect();
+
+    // The ground truth, shared by every method.
+    let mut truth = if args.no_truth {
+        None
+    } else {
+        Some(
+            FrameTruth::new(env, character.mesh.indices())
+                .context("setting up the ground truth")?,
+        )
+    };
+    let kept: Vec<Vec<bool>> = pipes
+        .iter()
+        .map(|p| {
+            let mut kept = vec![false; character.mesh.triangle_count()];
+            for t in &p.character_tree.triangles {
+                kept[t.index()] = true;
+            }
+            kept
+        })
         .collect();
 
     // One recording per method.
@@ -208,15 +320,47 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
             &placement,
             resolved.skinning,
         );
-        for ((p, r), rec) in pipes.iter_mut().zip(&mut runs).zip(&mut recorders) {
+        let indices = character.mesh.indices();
+        if let Some(t) = truth.as_mut() {
+            t.update(&buffers.positions, indices, env)
+                .inspect_err(|_| discard(&created))
+                .with_context(|| format!("ground truth of frame {k}"))?;
+        }
+        for (i, ((p, r), rec)) in pipes
+            .iter_mut()
+            .zip(&mut runs)
+            .zip(&mut recorders)
+            .enumerate()
+        {
             let mut c = p.detect(&buffers, &base, &character.mesh, env);
             c.time.skinning_ms = skin_ms;
-            r.frames.push(FrameRecord::new(k, &c, &p.pairs));
+            let mut record = FrameRecord::new(k, &c, &p.pairs);
+            let scored = match truth.as_mut() {
+                Some(t) => {
+                    let ctx = MethodContext {
+                        kept: &kept[i],
+                        big: &p.environment.big,
+                        plane_sphere: p.method.big_leaf_test() == LeafTest::PlaneSphere,
+                    };
+                    let mt = t
+                        .score(&p.pairs, &buffers.positions, indices, env, &ctx)
+                        .inspect_err(|_| discard(&created))
+                        .with_context(|| format!("scoring frame {k} of {}", p.method))?;
+                    record.truth = Some(TruthRecord::new(&mt, t.exact.len(), &t.parry_vs_exact));
+                    Some((mt, t.exact.len()))
+                }
+                None => None,
+            };
+            r.frames.push(record);
             if let Some(rec) = rec {
                 // Written to disk every frame: a killed run leaves a recording
                 // of every frame before the kill.
                 let logged = rec
                     .log_frame(k, t, p, &buffers, &base, character, env, &c)
+                    .and_then(|()| match &scored {
+                        Some((mt, n)) => rec.log_truth(mt, *n, &buffers.positions, character, env),
+                        None => Ok(()),
+                    })
                     .map_err(anyhow::Error::from)
                     .and_then(|()| {
                         rec.stream()
@@ -228,6 +372,21 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
                     return Err(e.context(format!("recording frame {k} of {}", p.method)));
                 }
             }
+        }
+        if let Some((dk, dir)) = &dump
+            && *dk == k
+        {
+            dump_frame(
+                dir,
+                k,
+                &name,
+                &pipes,
+                &buffers.positions,
+                character,
+                env,
+                truth.as_mut(),
+            )
+            .with_context(|| format!("{}: cannot dump frame {k}", dir.display()))?;
         }
         played = k + 1;
         progress.inc(1);
@@ -284,9 +443,30 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
             g.achieved, g.surface, g.metres, g.closest_frame
         );
     }
-    out += &SummaryTable(&summaries).to_string();
+    out += &match style {
+        Style::Text => SummaryTable(&summaries).to_string(),
+        Style::Markdown => SummaryTable(&summaries).markdown(),
+    };
+    out += &format!(
+        "{played} frames, {} methods in {:.1} s (hierarchies, frames{})\n",
+        pipes.len(),
+        started.elapsed().as_secs_f64(),
+        if truth.is_some() {
+            ", ground truth"
+        } else {
+            ""
+        }
+    );
     if let Some(path) = &args.json {
         out += &format!("report: {}\n", path.display());
+    }
+    if let Some((k, dir)) = &dump
+        && *k < played
+    {
+        out += &format!(
+            "frame {k}: {dir}/avatar.ply, {dir}/environment.ply, {dir}/pairs.json\n",
+            dir = dir.display()
+        );
     }
     for path in &created {
         out += &format!("recording: {} ({})\n", path.display(), file_size(path));
@@ -302,4 +482,54 @@ fn file_size(path: &Path) -> String {
         Ok(m) => format!("{:.1} MB", m.len() as f64 / 1e6),
         Err(_) => "size unknown".into(),
     }
+}
+
+/// Writes frame `k` for external tools: both meshes as PLY (face `i` is
+/// triangle `i`), and the reported, exact and parry pairs as JSON.
+#[allow(clippy::too_many_arguments)]
+fn dump_frame(
+    dir: &Path,
+    k: usize,
+    scenario: &str,
+    pipes: &[Pipeline],
+    positions: &[cornertree::geometry::Point],
+    character: &cornertree::character::Character,
+    env: &cornertree::mesh::TriMesh,
+    truth: Option<&mut FrameTruth>,
+) -> anyhow::Result<()> {
+    use cornertree::io::ply::write_ply;
+    std::fs::create_dir_all(dir)?;
+    write_ply(&dir.join("avatar.ply"), positions, character.mesh.indices())?;
+    write_ply(&dir.join("environment.ply"), env.positions(), env.indices())?;
+    // The truth of this frame (computed here when the run skips it).
+    let mut own;
+    let truth = match truth {
+        Some(t) => t,
+        None => {
+            own = FrameTruth::new(env, character.mesh.indices())?;
+            own.update(positions, character.mesh.indices(), env)?;
+            &mut own
+        }
+    };
+    let as_arrays = |v: &[(u32, u32)]| v.iter().map(|&(a, b)| [a, b]).collect::<Vec<_>>();
+    let by_method: serde_json::Map<String, serde_json::Value> = pipes
+        .iter()
+        .map(|p| {
+            (
+                p.method.name().to_string(),
+                serde_json::json!(as_arrays(&p.pairs)),
+            )
+        })
+        .collect();
+    let json = serde_json::json!({
+        "scenario": scenario,
+        "frame": k,
+        "method": pipes.first().map(|p| p.method.name()),
+        "reported": pipes.first().map(|p| as_arrays(&p.pairs)).unwrap_or_default(),
+        "reference": as_arrays(&truth.exact),
+        "parry": as_arrays(&truth.parry),
+        "reported_by_method": by_method,
+    });
+    std::fs::write(dir.join("pairs.json"), serde_json::to_string_pretty(&json)?)?;
+    Ok(())
 }

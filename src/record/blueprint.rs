@@ -12,7 +12,8 @@ use super::layout;
 /// triangles, environment spheres and sub-triangles reached), the character's
 /// spheres of level `sphere_level` (any other level can be switched on in
 /// the blueprint panel), and the whole scene. Right: the counters as time
-/// series; this frame's report, the event log and the scenario.
+/// series (colliding pairs beside precision and recall); this frame's
+/// report, the event log and the scenario.
 pub fn run_blueprint(sphere_level: usize) -> Blueprint {
     let contacts = Spatial3DView::new("contacts")
         .with_origin("/")
@@ -36,7 +37,9 @@ pub fn run_blueprint(sphere_level: usize) -> Blueprint {
     let tests = TimeSeriesView::new("tests and refits per frame")
         .with_contents(["/stats/tests/**", "/stats/refits"]);
     let ops = TimeSeriesView::new("operations (paper's model)").with_origin("/stats/operations");
-    let pairs = TimeSeriesView::new("colliding pairs").with_origin("/stats/pairs");
+    let pairs = TimeSeriesView::new("colliding pairs (reported, exact)")
+        .with_contents(["/stats/pairs", "/stats/reference_pairs"]);
+    let accuracy = TimeSeriesView::new("precision and recall").with_origin("/stats/accuracy");
     let time = TimeSeriesView::new("time per stage (ms)").with_origin("/stats/time_ms");
     let report =
         TextDocumentView::new("this frame").with_origin(format!("/{}", layout::FRAME_REPORT));
@@ -52,7 +55,7 @@ pub fn run_blueprint(sphere_level: usize) -> Blueprint {
         Vertical::new([
             tests.into(),
             ops.into(),
-            pairs.into(),
+            Tabs::new([pairs.into(), accuracy.into()]).into(),
             time.into(),
             Tabs::new([report.into(), events.into(), info.into()]).into(),
         ])

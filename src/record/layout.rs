@@ -18,6 +18,16 @@ pub const AVATAR_SPHERES: &str = "world/avatar/spheres";
 pub const COLLIDING_AVATAR: &str = "cd/colliding/avatar";
 pub const COLLIDING_ENVIRONMENT: &str = "cd/colliding/environment";
 pub const COLLIDING_SPHERES: &str = "cd/colliding/plane_sphere";
+pub const FALSE_POSITIVE: &str = "cd/false_positive";
+pub const FALSE_NEGATIVE: &str = "cd/false_negative";
+/// Precision and recall against the ground truth, per frame.
+pub const ACCURACY_PATHS: [&str; 4] = [
+    "stats/accuracy/pair_precision",
+    "stats/accuracy/pair_recall",
+    "stats/accuracy/triangle_precision",
+    "stats/accuracy/triangle_recall",
+];
+pub const REFERENCE_PAIRS: &str = "stats/reference_pairs";
 pub const STATS: &str = "stats";
 pub const EVENTS: &str = "events";
 pub const FRAME_REPORT: &str = "frame_report";
@@ -55,6 +65,8 @@ pub const SKELETON_COLOR: Rgba = [240, 240, 90, 255];
 pub const HIT_AVATAR_COLOR: Rgba = [230, 40, 40, 255];
 pub const HIT_ENV_COLOR: Rgba = [255, 150, 20, 255];
 pub const SUBDIVISION_COLOR: Rgba = [40, 200, 120, 255];
+pub const FALSE_POSITIVE_COLOR: Rgba = [255, 0, 255, 255];
+pub const FALSE_NEGATIVE_COLOR: Rgba = [0, 230, 255, 255];
 
 /// A colour per hierarchy level, from warm (root) to cool (leaves),
 /// translucent so nested spheres stay readable.

@@ -114,7 +114,12 @@ impl RunRecorder {
             &rerun::TextDocument::new(info.markdown.clone())
                 .with_media_type(rerun::MediaType::markdown()),
         )?;
-        for path in layout::COUNTER_PATHS.iter().chain(&layout::TIME_PATHS) {
+        for path in layout::COUNTER_PATHS
+            .iter()
+            .chain(&layout::TIME_PATHS)
+            .chain(&layout::ACCURACY_PATHS)
+            .chain(&[layout::REFERENCE_PAIRS])
+        {
             let name = path.rsplit('/').next().unwrap_or(path);
             rec.log_static(*path, &rerun::SeriesLines::new().with_names([name]))?;
         }
@@ -407,6 +412,89 @@ impl RunRecorder {
                 .with_colors([layout::SUBDIVISION_COLOR])
                 .with_radii([rerun::Radius::new_ui_points(1.0)]),
         )?;
+        Ok(())
+    }
+
+    /// Logs frame `k`'s comparison with the ground truth (after
+    /// [`Self::log_frame`], at the same time): false positives and false
+    /// negatives as triangles (both sides) labelled with their distance or
+    /// cause, and precision and recall.
+    pub fn log_truth(
+        &self,
+        truth: &crate::truth::MethodTruth,
+        reference_pairs: usize,
+        positions: &[Point],
+        character: &Character,
+        env: &TriMesh,
+    ) -> rerun::RecordingStreamResult<()> {
+        let rec = &self.rec;
+        let idx = character.mesh.indices();
+        let centroid = |pts: [Point; 3]| {
+            p3(&Point::from(
+                (pts[0].coords + pts[1].coords + pts[2].coords) / 3.0,
+            ))
+        };
+        let avatar_tri = |c: u32| idx[c as usize].map(|v| positions[v as usize]);
+        let fps: Vec<(u32, u32, String)> = truth
+            .false_positives
+            .iter()
+            .map(|f| {
+                (
+                    f.avatar,
+                    f.environment,
+                    format!("FP {:.2} mm", f.distance * 1e3),
+                )
+            })
+            .collect();
+        let fns: Vec<(u32, u32, String)> = truth
+            .false_negatives
+            .iter()
+            .map(|f| (f.avatar, f.environment, format!("FN {:?}", f.cause)))
+            .collect();
+        for (path, items, color) in [
+            (layout::FALSE_POSITIVE, &fps, layout::FALSE_POSITIVE_COLOR),
+            (layout::FALSE_NEGATIVE, &fns, layout::FALSE_NEGATIVE_COLOR),
+        ] {
+            let avatar: Vec<u32> = items.iter().map(|i| i.0).collect();
+            let environment: Vec<u32> = items.iter().map(|i| i.1).collect();
+            rec.log(
+                format!("{path}/avatar"),
+                &soup(positions, idx, &avatar, color),
+            )?;
+            rec.log(
+                format!("{path}/environment"),
+                &soup(env.positions(), env.indices(), &environment, color),
+            )?;
+            // One label per pair, at the character triangle.
+            rec.log(
+                format!("{path}/labels"),
+                &rerun::Points3D::new(items.iter().map(|i| centroid(avatar_tri(i.0))))
+                    .with_labels(items.iter().map(|i| i.2.clone()))
+                    .with_colors([color])
+                    .with_radii([rerun::Radius::new_ui_points(3.0)]),
+            )?;
+        }
+        let a = &truth.accuracy;
+        let values = [
+            a.pairs.precision(),
+            a.pairs.recall(),
+            a.triangles.precision(),
+            a.triangles.recall(),
+        ];
+        for (path, v) in layout::ACCURACY_PATHS.iter().zip(values) {
+            rec.log(*path, &rerun::Scalars::single(v))?;
+        }
+        rec.log(
+            layout::REFERENCE_PAIRS,
+            &rerun::Scalars::single(reference_pairs as f64),
+        )?;
+        let (nfp, nfn) = (fps.len(), fns.len());
+        if nfp + nfn > 0 {
+            self.event(
+                "WARN",
+                &format!("{nfp} false positives, {nfn} false negatives"),
+            )?;
+        }
         Ok(())
     }
 

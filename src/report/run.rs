@@ -7,6 +7,90 @@ use serde::Serialize;
 
 use crate::pipeline::Method;
 use crate::pipeline::driver::FrameCounters;
+use crate::truth::{
+    AccuracyTotals, Classified, Disagreement, FalseNegative, FalsePositive, FrameAccuracy,
+    MethodTruth,
+};
+
+/// How many differences of each kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct KindCounts {
+    pub touching: u64,
+    pub near_degenerate: u64,
+    pub true_error: u64,
+}
+
+impl KindCounts {
+    pub fn of(c: &Classified) -> Self {
+        Self {
+            touching: c.touching as u64,
+            near_degenerate: c.near_degenerate as u64,
+            true_error: c.true_error as u64,
+        }
+    }
+
+    pub fn add(&mut self, o: &KindCounts) {
+        self.touching += o.touching;
+        self.near_degenerate += o.near_degenerate;
+        self.true_error += o.true_error;
+    }
+
+    pub fn total(&self) -> u64 {
+        self.touching + self.near_degenerate + self.true_error
+    }
+}
+
+/// Differences between two answers, counted by kind in both directions.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct DisagreementCounts {
+    /// In the first answer only.
+    pub extra: KindCounts,
+    /// In the second answer only.
+    pub missed: KindCounts,
+}
+
+impl DisagreementCounts {
+    pub fn of(d: &Disagreement) -> Self {
+        Self {
+            extra: KindCounts::of(&d.extra),
+            missed: KindCounts::of(&d.missed),
+        }
+    }
+
+    pub fn add(&mut self, o: &DisagreementCounts) {
+        self.extra.add(&o.extra);
+        self.missed.add(&o.missed);
+    }
+}
+
+/// One frame of one method against the ground truth.
+#[derive(Clone, Debug, Serialize)]
+pub struct TruthRecord {
+    /// Exactly colliding pairs (the truth) this frame.
+    pub reference_pairs: usize,
+    pub accuracy: FrameAccuracy,
+    /// Reported pairs that do not collide, with their distance (metres).
+    pub false_positives: Vec<FalsePositive>,
+    /// Colliding pairs not reported, with their cause.
+    pub false_negatives: Vec<FalseNegative>,
+    /// This method's pairs against parry's, classified.
+    pub vs_parry: DisagreementCounts,
+    /// parry's pairs against the exact ones, classified.
+    pub parry_vs_exact: DisagreementCounts,
+}
+
+impl TruthRecord {
+    pub fn new(t: &MethodTruth, reference_pairs: usize, parry_vs_exact: &Disagreement) -> Self {
+        Self {
+            reference_pairs,
+            accuracy: t.accuracy,
+            false_positives: t.false_positives.clone(),
+            false_negatives: t.false_negatives.clone(),
+            vs_parry: DisagreementCounts::of(&t.vs_parry),
+            parry_vs_exact: DisagreementCounts::of(parry_vs_exact),
+        }
+    }
+}
 
 /// One frame of one method, as written to the JSON report.
 #[derive(Clone, Debug, Serialize)]
@@ -25,6 +109,9 @@ pub struct FrameRecord {
     pub narrow_ms: f64,
     /// Colliding `[avatar triangle, environment triangle]` pairs.
     pub pairs: Vec<[u32; 2]>,
+    /// Against the ground truth (absent with `--no-truth`).
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub truth: Option<TruthRecord>,
 }
 
 impl FrameRecord {
@@ -42,6 +129,7 @@ impl FrameRecord {
             traversal_ms: c.time.traversal_ms,
             narrow_ms: c.time.narrow_ms,
             pairs: pairs.iter().map(|&(a, b)| [a, b]).collect(),
+            truth: None,
         }
     }
 }
@@ -91,6 +179,16 @@ pub struct Summary {
     pub time_ms: Stat,
     /// Frames with at least one colliding pair.
     pub frames_with_contact: usize,
+    /// Against the ground truth, over all frames (absent with `--no-truth`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accuracy: Option<AccuracyTotals>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vs_parry: Option<DisagreementCounts>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parry_vs_exact: Option<DisagreementCounts>,
+    /// Largest distance of a false positive (metres).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_false_positive_distance: Option<f64>,
 }
 
 impl MethodRun {
@@ -107,46 +205,126 @@ impl MethodRun {
             refits: stat(f.iter().map(|x| x.refits as f64)),
             time_ms: stat(f.iter().map(|x| x.time_ms)),
             frames_with_contact: f.iter().filter(|x| !x.pairs.is_empty()).count(),
+            accuracy: self.truth_totals(|t, acc: &mut AccuracyTotals| acc.add(&t.accuracy)),
+            vs_parry: self.truth_totals(|t, d: &mut DisagreementCounts| d.add(&t.vs_parry)),
+            parry_vs_exact: self
+                .truth_totals(|t, d: &mut DisagreementCounts| d.add(&t.parry_vs_exact)),
+            max_false_positive_distance: self.truth_totals(|t, m: &mut f64| {
+                for fp in &t.false_positives {
+                    *m = m.max(fp.distance);
+                }
+            }),
         }
+    }
+
+    /// Folds the frames' truth records, if every frame has one.
+    fn truth_totals<T: Default>(&self, add: impl Fn(&TruthRecord, &mut T)) -> Option<T> {
+        let mut total = T::default();
+        for f in &self.frames {
+            add(f.truth.as_ref()?, &mut total);
+        }
+        (!self.frames.is_empty()).then_some(total)
     }
 }
 
 /// The summary table of a run: one column per method, rows as in Tables 2–3.
 pub struct SummaryTable<'a>(pub &'a [Summary]);
 
+impl SummaryTable<'_> {
+    /// The rows: label and one cell per method.
+    pub fn rows(&self) -> Vec<(&'static str, Vec<String>)> {
+        let s = self.0;
+        let col = |get: &dyn Fn(&Summary) -> String| s.iter().map(get).collect::<Vec<_>>();
+        let mm = |x: Stat| format!("{:.0} / {:.0}", x.max, x.mean);
+        let mut rows = vec![
+            (
+                "Data (hierarchies)",
+                col(&|m| format!("{:.2} MiB", m.hierarchy_bytes as f64 / 1048576.0)),
+            ),
+            ("Sph-Sph tests (max / mean)", col(&|m| mm(m.sphere_sphere))),
+            ("Tri-Tri tests (max / mean)", col(&|m| mm(m.tri_tri))),
+            ("Pla-Sph tests (max / mean)", col(&|m| mm(m.plane_sphere))),
+            ("Operations (max / mean)", col(&|m| mm(m.operations))),
+            ("Refits (max / mean)", col(&|m| mm(m.refits))),
+            (
+                "Frame ms (max / mean)",
+                col(&|m| format!("{:.3} / {:.3}", m.time_ms.max, m.time_ms.mean)),
+            ),
+            (
+                "Frames with contact",
+                col(&|m| format!("{} of {}", m.frames_with_contact, m.frames)),
+            ),
+        ];
+        if s.iter().all(|m| m.accuracy.is_some()) {
+            let pr =
+                |a: crate::truth::Accuracy| format!("{:.3} / {:.3}", a.precision(), a.recall());
+            rows.push((
+                "Pairs precision / recall",
+                col(&|m| pr(m.accuracy.unwrap_or_default().pairs)),
+            ));
+            rows.push((
+                "Avatar tris prec. / recall",
+                col(&|m| pr(m.accuracy.unwrap_or_default().triangles)),
+            ));
+            rows.push((
+                "Frames precision / recall",
+                col(&|m| pr(m.accuracy.unwrap_or_default().frames_with_contact)),
+            ));
+            rows.push((
+                "Max false-positive dist.",
+                col(&|m| match m.max_false_positive_distance {
+                    Some(d) if d > 0.0 => format!("{:.2} mm", d * 1e3),
+                    _ => "-".into(),
+                }),
+            ));
+            rows.push((
+                "vs parry: touch/degen/err",
+                col(&|m| {
+                    let d = m.vs_parry.unwrap_or_default();
+                    format!(
+                        "{}/{}/{}",
+                        d.extra.touching + d.missed.touching,
+                        d.extra.near_degenerate + d.missed.near_degenerate,
+                        d.extra.true_error + d.missed.true_error
+                    )
+                }),
+            ));
+        }
+        rows
+    }
+
+    /// The same table in Markdown.
+    pub fn markdown(&self) -> String {
+        let mut out = String::from("| |");
+        for m in self.0 {
+            out += &format!(" {} |", m.method.name());
+        }
+        out += "\n|---|";
+        for _ in self.0 {
+            out += "---|";
+        }
+        out += "\n";
+        for (label, cells) in self.rows() {
+            out += &format!("| {label} | {} |\n", cells.join(" | "));
+        }
+        out
+    }
+}
+
 impl fmt::Display for SummaryTable<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let s = self.0;
         write!(f, "{:<28}", "")?;
-        for m in s {
+        for m in self.0 {
             write!(f, "{:>26}", m.method.name())?;
         }
         writeln!(f)?;
-        let row = |f: &mut fmt::Formatter<'_>,
-                   label: &str,
-                   get: &dyn Fn(&Summary) -> String|
-         -> fmt::Result {
+        for (label, cells) in self.rows() {
             write!(f, "{label:<28}")?;
-            for m in s {
-                write!(f, "{:>26}", get(m))?;
+            for c in cells {
+                write!(f, "{c:>26}")?;
             }
-            writeln!(f)
-        };
-        let mm = |x: Stat| format!("{:.0} / {:.0}", x.max, x.mean);
-        row(f, "Data (hierarchies)", &|m| {
-            format!("{:.2} MiB", m.hierarchy_bytes as f64 / 1048576.0)
-        })?;
-        row(f, "Sph-Sph tests (max / mean)", &|m| mm(m.sphere_sphere))?;
-        row(f, "Tri-Tri tests (max / mean)", &|m| mm(m.tri_tri))?;
-        row(f, "Pla-Sph tests (max / mean)", &|m| mm(m.plane_sphere))?;
-        row(f, "Operations (max / mean)", &|m| mm(m.operations))?;
-        row(f, "Refits (max / mean)", &|m| mm(m.refits))?;
-        row(f, "Frame ms (max / mean)", &|m| {
-            format!("{:.3} / {:.3}", m.time_ms.max, m.time_ms.mean)
-        })?;
-        row(f, "Frames with contact", &|m| {
-            format!("{} of {}", m.frames_with_contact, m.frames)
-        })?;
+            writeln!(f)?;
+        }
         Ok(())
     }
 }

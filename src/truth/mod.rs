@@ -5,6 +5,7 @@
 //! |---|---|
 //! | [`parry_reference`] | [`ParryReference`]: parry3d's triangle meshes and BVH leaf pairs, decided by parry's triangle-triangle test (GJK) or by the exact oracle; a brute-force exact helper |
 //! | [`disagreement`] | the pairs two answers differ on, each classified as touching, near-degenerate or a true error |
+//! | [`frame_truth`] | a frame's truth (exact pairs on parry's broad phase), parry's answer beside it, and a method's score: accuracy, false positives with distances, false negatives with causes |
 //! | [`accuracy`] | precision and recall per frame and over a run, at the levels of pairs, character triangles and frames |
 //!
 //! Every pair list here is a sorted list of distinct `(character triangle,
@@ -18,10 +19,14 @@
 
 pub mod accuracy;
 pub mod disagreement;
+pub mod frame_truth;
 pub mod parry_reference;
 
 pub use accuracy::{Accuracy, AccuracyTotals, FrameAccuracy};
 pub use disagreement::{Classified, Disagreement, Kind, Tolerances, triangle_distance};
+pub use frame_truth::{
+    FalseNegative, FalsePositive, FrameTruth, MethodContext, MethodTruth, MissCause,
+};
 pub use parry_reference::{ParryReference, brute_force_pairs};
 
 /// Why a ground-truth query cannot be answered.
