@@ -346,7 +346,12 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
                         .score(&p.pairs, &buffers.positions, indices, env, &ctx)
                         .inspect_err(|_| discard(&created))
                         .with_context(|| format!("scoring frame {k} of {}", p.method))?;
-                    record.truth = Some(TruthRecord::new(&mt, t.exact.len(), &t.parry_vs_exact));
+                    record.truth = Some(TruthRecord::new(
+                        &mt,
+                        t.exact.len(),
+                        &t.parry_vs_exact,
+                        t.parry_extra_max_distance,
+                    ));
                     Some((mt, t.exact.len()))
                 }
                 None => None,

@@ -77,10 +77,17 @@ pub struct TruthRecord {
     pub vs_parry: DisagreementCounts,
     /// parry's pairs against the exact ones, classified.
     pub parry_vs_exact: DisagreementCounts,
+    /// Largest distance of a pair parry reports and the exact oracle does not.
+    pub parry_extra_max_distance: f64,
 }
 
 impl TruthRecord {
-    pub fn new(t: &MethodTruth, reference_pairs: usize, parry_vs_exact: &Disagreement) -> Self {
+    pub fn new(
+        t: &MethodTruth,
+        reference_pairs: usize,
+        parry_vs_exact: &Disagreement,
+        parry_extra_max_distance: f64,
+    ) -> Self {
         Self {
             reference_pairs,
             accuracy: t.accuracy,
@@ -88,6 +95,7 @@ impl TruthRecord {
             false_negatives: t.false_negatives.clone(),
             vs_parry: DisagreementCounts::of(&t.vs_parry),
             parry_vs_exact: DisagreementCounts::of(parry_vs_exact),
+            parry_extra_max_distance,
         }
     }
 }

@@ -81,6 +81,9 @@ pub struct FrameTruth {
     pub parry: Vec<(u32, u32)>,
     /// Where parry's answer differs from the exact one.
     pub parry_vs_exact: Disagreement,
+    /// Largest distance between the triangles of a pair parry reports and
+    /// the exact oracle does not (metres; 0 when there is none).
+    pub parry_extra_max_distance: f64,
     extra: Vec<(u32, u32)>,
     missed: Vec<(u32, u32)>,
 }
@@ -93,6 +96,7 @@ impl FrameTruth {
             exact: Vec::new(),
             parry: Vec::new(),
             parry_vs_exact: Disagreement::default(),
+            parry_extra_max_distance: 0.0,
             extra: Vec::new(),
             missed: Vec::new(),
         })
@@ -120,6 +124,15 @@ impl FrameTruth {
             environment,
             &self.tolerances,
         )?;
+        self.parry_extra_max_distance = 0.0;
+        for &(c, e, _) in &self.parry_vs_exact.extra.items {
+            let t = character_indices[c as usize].map(|v| positions[v as usize]);
+            let d = triangle_distance(
+                &Triangle::new(t[0], t[1], t[2]),
+                &environment.triangle(TriangleId(e)),
+            );
+            self.parry_extra_max_distance = self.parry_extra_max_distance.max(d);
+        }
         Ok(())
     }
 

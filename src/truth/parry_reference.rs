@@ -197,9 +197,17 @@ impl ParryReference {
     }
 }
 
-/// `parry3d::query::intersection_test` on two triangles given in one frame.
-/// The default dispatcher always answers a triangle pair (GJK on support
-/// maps), so `Unsupported` cannot occur; it would read as "no contact".
+/// `parry3d::query::intersection_test` on two triangles given in one frame
+/// (GJK on support maps; the default dispatcher always answers a triangle
+/// pair, so `Unsupported` cannot occur and would read as "no contact").
+///
+/// It is not exact on triangles of very different sizes. Measured on
+/// `scenarios/touching.toml` with de-duplication off (32 frames): 10 pairs
+/// reported that the exact oracle says are apart, up to 4.16 mm (frame 3: a
+/// 1.5 cm character triangle and the 8 m wall triangle beside the one it
+/// pierces; parry's own `query::distance` also gives 4.16 mm), and none
+/// missed. Deciding by `query::distance == 0` instead is worse: 69 truly
+/// intersecting pairs missed over the same frames.
 pub fn parry_triangles_intersect(t1: &ParryTriangle, t2: &ParryTriangle) -> bool {
     matches!(
         query::intersection_test(&Pose::IDENTITY, t1, &Pose::IDENTITY, t2),
