@@ -92,8 +92,14 @@ fn touching_scenario_has_contacts_and_exact_methods_find_them_all() {
                 "{method} frame {}: no pair invented",
                 f["frame"]
             );
-            // Against parry: where they differ, parry differs from the exact
-            // answer by as much (its own errors, classified and counted).
+            // Against parry: the same pairs, or touching cases only.
+            for side in ["extra", "missed"] {
+                let d = &f["vs_parry"][side];
+                assert_eq!(d["true_error"], 0, "{method} {side}: {d}");
+                assert_eq!(d["near_degenerate"], 0, "{method} {side}: {d}");
+            }
+            // And where they differ, parry differs from the exact answer by
+            // as much (its own differences, classified and counted).
             assert_eq!(
                 f["vs_parry"]["extra"], f["parry_vs_exact"]["missed"],
                 "{method} frame {}",

@@ -5,17 +5,20 @@
 //! built on the first [`ParryReference::update`] and afterwards moved with
 //! `TriMesh::update_vertices`. Per frame, `Bvh::leaf_pairs` walks the two BVHs
 //! together and yields the leaf pairs whose boxes overlap (the candidates);
-//! each candidate is decided by `parry3d::query::intersection_test` on the two
-//! triangles, both in world coordinates with identity poses
-//! ([`ParryReference::pairs`]), or by our exact oracle
+//! each candidate is decided by parry's `query::intersection_test` on the two
+//! triangles, both in world coordinates with identity poses, in parry's `f64`
+//! build ([`ParryReference::pairs`]), or by our exact oracle
 //! ([`ParryReference::exact_pairs`]).
 //!
 //! parry 0.31 has no public exact triangle-triangle test: for two triangles
-//! its default dispatcher runs GJK on their support maps in `f32`, which
-//! answers "intersecting" once the origin is within its tolerance of the
-//! Minkowski difference. Pairs that touch, or miss by up to about 1e-5 at unit
-//! scale, go either way, and on a thin triangle GJK can report a pair
-//! separated by far more (tests/truth.rs counts these).
+//! its default dispatcher runs GJK on their support maps, which answers
+//! "intersecting" once the origin is within its tolerance of the Minkowski
+//! difference. In `f32` ([`parry_triangles_intersect`]) pairs that miss by
+//! up to about 1e-5 at unit scale go either way, a thin triangle's pair can
+//! be reported when millimetres apart, and so can a small triangle against a
+//! big one (4.16 mm on `touching.toml`). The `f64` build
+//! ([`parry_f64_triangles_intersect`]) agrees with the exact oracle on every
+//! frame of every shipped scenario, so it is parry's answer here.
 //!
 //! [`brute_force_pairs`] is an independent reference for small inputs: every
 //! pair through the exact oracle ([`crate::geometry::exact::classify`]).
@@ -132,14 +135,14 @@ impl ParryReference {
     }
 
     /// The colliding `(character triangle, environment triangle)` pairs of the
-    /// last pose by parry's triangle-triangle test, sorted and distinct, into
+    /// last pose by parry's triangle-triangle test (`f64` build), sorted and distinct, into
     /// `out` (cleared first). Empty before the first [`Self::update`].
     ///
     /// `out` is reused by the caller; parry's `LeafPairs` iterator keeps its
     /// stack in a 32-entry `SmallVec`, which spills to the heap only for deep
     /// tree pairs.
     pub fn pairs(&mut self, out: &mut Vec<(u32, u32)>) {
-        self.collect(out, parry_triangles_intersect);
+        self.collect(out, parry_f64_triangles_intersect);
     }
 
     /// Like [`Self::pairs`], but each candidate is decided by the exact oracle
@@ -197,9 +200,10 @@ impl ParryReference {
     }
 }
 
-/// `parry3d::query::intersection_test` on two triangles given in one frame
-/// (GJK on support maps; the default dispatcher always answers a triangle
-/// pair, so `Unsupported` cannot occur and would read as "no contact").
+/// `parry3d::query::intersection_test` (the `f32` build) on two triangles
+/// given in one frame (GJK on support maps; the default dispatcher always
+/// answers a triangle pair, so `Unsupported` cannot occur and would read as
+/// "no contact"). What a Rust user of parry3d would call; not the reference.
 ///
 /// It is not exact on triangles of very different sizes. Measured on
 /// `scenarios/touching.toml` with de-duplication off (32 frames): 10 pairs
@@ -211,6 +215,21 @@ impl ParryReference {
 pub fn parry_triangles_intersect(t1: &ParryTriangle, t2: &ParryTriangle) -> bool {
     matches!(
         query::intersection_test(&Pose::IDENTITY, t1, &Pose::IDENTITY, t2),
+        Ok(r) if r.intersecting
+    )
+}
+
+/// The same test in parry's `f64` build (`parry3d-f64`), on the triangles'
+/// `f32` corners widened exactly to `f64`: parry's answer in
+/// [`ParryReference::pairs`]. On every frame of every shipped scenario
+/// (de-duplication off) it agrees with the exact oracle pair for pair, where
+/// the `f32` test reported 10 pairs up to 4.16 mm apart on `touching.toml`.
+pub fn parry_f64_triangles_intersect(t1: &ParryTriangle, t2: &ParryTriangle) -> bool {
+    use parry3d_f64::math::{Pose as Pose64, Vector as V64};
+    let w = |v: PVector| V64::new(v.x as f64, v.y as f64, v.z as f64);
+    let tri = |t: &ParryTriangle| parry3d_f64::shape::Triangle::new(w(t.a), w(t.b), w(t.c));
+    matches!(
+        parry3d_f64::query::intersection_test(&Pose64::IDENTITY, &tri(t1), &Pose64::IDENTITY, &tri(t2)),
         Ok(r) if r.intersecting
     )
 }
