@@ -26,7 +26,9 @@ use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::{RefitState, Refitter};
 use crate::sphere_tree::traverse::LeafPair;
-use crate::sphere_tree::{BuildParams, Hierarchy, NodeId, SphereTree, Workspace, traverse};
+use crate::sphere_tree::{
+    BuildParams, Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded,
+};
 
 use super::{EnvironmentTree, LeafTest, Method};
 
@@ -198,18 +200,44 @@ impl Pipeline {
         };
         self.leaf_pairs.clear();
         let leaf_pairs = &mut self.leaf_pairs;
-        let stats = traverse(
-            &mut od,
-            &mut self.environment.tree,
-            &mut self.workspace,
-            |p| leaf_pairs.push(p),
-        );
+        let envt = &self.environment;
+        let mut guard_tests = 0u64;
+        let stats = if self.method.prunes_at_plane() {
+            // Every character sphere paired with a big triangle's leaf must
+            // meet that triangle's plane (Algorithm 1), or the pair is dropped
+            // with everything under it: a triangle crossing the big triangle
+            // has corners on both sides of its plane, so every sphere holding
+            // it meets the plane, and no contact is lost.
+            let guard = |j: NodeId, s: &crate::geometry::Sphere| {
+                if !envt.is_division_leaf(j) {
+                    return true;
+                }
+                guard_tests += 1;
+                let p = envt.tree.node(j).primitive().unwrap_or(0);
+                sphere_meets_plane(s, &env.triangle(TriangleId(p)))
+            };
+            traverse_guarded(
+                &mut od,
+                &mut FixedTree(&envt.tree),
+                &mut self.workspace,
+                guard,
+                |p| leaf_pairs.push(p),
+            )
+        } else {
+            traverse(
+                &mut od,
+                &mut FixedTree(&envt.tree),
+                &mut self.workspace,
+                |p| leaf_pairs.push(p),
+            )
+        };
         let refit_ticks = od.ticks;
         let elapsed = t0.elapsed().as_secs_f64() * 1e3;
         let total_ticks = ticks().wrapping_sub(tick0).max(1);
         c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
         c.time.traversal_ms = elapsed - c.time.refit_ms;
         c.sphere_sphere = stats.sphere_tests;
+        c.plane_sphere = guard_tests;
         c.refits = self.refit.refits;
 
         // Narrow phase.
@@ -221,8 +249,13 @@ impl Pipeline {
             let hit = if self.environment.is_division_leaf(p.leaf_b)
                 && self.method.big_leaf_test() == LeafTest::PlaneSphere
             {
-                c.plane_sphere += 1;
-                sphere_meets_plane(&self.refit.spheres[p.leaf_a.index()], &et)
+                if self.method.prunes_at_plane() {
+                    // Already tested on the way down.
+                    true
+                } else {
+                    c.plane_sphere += 1;
+                    sphere_meets_plane(&self.refit.spheres[p.leaf_a.index()], &et)
+                }
             } else {
                 c.tri_tri += 1;
                 let [a, b, cc] = character.indices()[p.primitive_a as usize];
@@ -257,6 +290,21 @@ impl Pipeline {
 
     pub fn options(&self) -> &PipelineOptions {
         &self.options
+    }
+}
+
+/// A static tree as a [`Hierarchy`] through a shared borrow (so the leaf
+/// guard can read the environment while traversal runs).
+struct FixedTree<'a>(&'a SphereTree);
+
+impl Hierarchy for FixedTree<'_> {
+    #[inline]
+    fn tree(&self) -> &SphereTree {
+        self.0
+    }
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> crate::geometry::Sphere {
+        self.0.nodes()[id.index()].sphere
     }
 }
 

@@ -33,6 +33,11 @@ pub enum Method {
     /// A full quaternary tree with plane-sphere leaves: the alternative §5
     /// argues against.
     QuaternaryPlaneSphere,
+    /// Corner-trees with plane-sphere leaves, and every character sphere
+    /// paired with a big triangle's leaf tested against its plane on the way
+    /// down: a limb whose sphere misses the plane is not descended (our
+    /// reading of how the paper's counts are reached; docs/results.md).
+    PlaneSpherePruned,
 }
 
 /// The exact test run where a character leaf meets an environment leaf.
@@ -46,11 +51,12 @@ pub enum LeafTest {
 }
 
 impl Method {
-    pub const ALL: [Method; 4] = [
+    pub const ALL: [Method; 5] = [
         Method::Original,
         Method::SphereDivision,
         Method::PlaneSphere,
         Method::QuaternaryPlaneSphere,
+        Method::PlaneSpherePruned,
     ];
 
     /// The hierarchy built inside big triangles, if any.
@@ -58,7 +64,7 @@ impl Method {
         match self {
             Method::Original => None,
             Method::SphereDivision | Method::QuaternaryPlaneSphere => Some(DivisionKind::Full),
-            Method::PlaneSphere => Some(DivisionKind::Corner),
+            Method::PlaneSphere | Method::PlaneSpherePruned => Some(DivisionKind::Corner),
         }
     }
 
@@ -67,8 +73,16 @@ impl Method {
     pub fn big_leaf_test(self) -> LeafTest {
         match self {
             Method::Original | Method::SphereDivision => LeafTest::TriTri,
-            Method::PlaneSphere | Method::QuaternaryPlaneSphere => LeafTest::PlaneSphere,
+            Method::PlaneSphere | Method::QuaternaryPlaneSphere | Method::PlaneSpherePruned => {
+                LeafTest::PlaneSphere
+            }
         }
+    }
+
+    /// Whether character spheres meeting a big triangle's leaf are tested
+    /// against its plane during traversal (not only at character leaves).
+    pub fn prunes_at_plane(self) -> bool {
+        self == Method::PlaneSpherePruned
     }
 
     /// The name used on the command line, in files and in reports.
@@ -78,6 +92,7 @@ impl Method {
             Method::SphereDivision => "sphere-division",
             Method::PlaneSphere => "plane-sphere",
             Method::QuaternaryPlaneSphere => "quaternary-plane-sphere",
+            Method::PlaneSpherePruned => "plane-sphere-pruned",
         }
     }
 }

@@ -27,5 +27,5 @@ pub mod validate;
 
 pub use build::{BuildParams, build_tree};
 pub use node::{Node, NodeId, SphereTree};
-pub use traverse::{Hierarchy, TraversalStats, Workspace, traverse};
+pub use traverse::{Hierarchy, TraversalStats, Workspace, traverse, traverse_guarded};
 pub use validate::TreeError;

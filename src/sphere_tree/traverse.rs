@@ -73,11 +73,32 @@ pub fn traverse<A, B, F>(
     a: &mut A,
     b: &mut B,
     ws: &mut Workspace,
+    on_leaf_pair: F,
+) -> TraversalStats
+where
+    A: Hierarchy + ?Sized,
+    B: Hierarchy + ?Sized,
+    F: FnMut(LeafPair),
+{
+    traverse_guarded(a, b, ws, |_, _| true, on_leaf_pair)
+}
+
+/// [`traverse`] with a `guard` on every pair pushed besides the sphere test:
+/// `guard(j, s)` for a node `j` of `b` and the sphere `s` of the `a` node
+/// paired with it; a pair is kept only if the guard says so. The guard is
+/// asked after the sphere test passes, once per pair pushed (not for the
+/// root pair).
+pub fn traverse_guarded<A, B, G, F>(
+    a: &mut A,
+    b: &mut B,
+    ws: &mut Workspace,
+    mut guard: G,
     mut on_leaf_pair: F,
 ) -> TraversalStats
 where
     A: Hierarchy + ?Sized,
     B: Hierarchy + ?Sized,
+    G: FnMut(NodeId, &crate::geometry::Sphere) -> bool,
     F: FnMut(LeafPair),
 {
     let mut stats = TraversalStats::default();
@@ -109,14 +130,15 @@ where
                 if open_a {
                     for c in na.children() {
                         stats.sphere_tests += 1;
-                        if a.sphere(NodeId(c)).overlaps(&sb) {
+                        let sc = a.sphere(NodeId(c));
+                        if sc.overlaps(&sb) && guard(j, &sc) {
                             ws.stack.push((NodeId(c), j));
                         }
                     }
                 } else {
                     for c in nb.children() {
                         stats.sphere_tests += 1;
-                        if sa.overlaps(&b.sphere(NodeId(c))) {
+                        if sa.overlaps(&b.sphere(NodeId(c))) && guard(NodeId(c), &sa) {
                             ws.stack.push((i, NodeId(c)));
                         }
                     }
