@@ -2,6 +2,7 @@
 
 use std::process::ExitCode;
 
+mod bench_cmd;
 mod run_cmd;
 
 use anyhow::Context;
@@ -42,6 +43,11 @@ enum Command {
     /// ground truth (exact pairs on parry's broad phase) and print one table
     /// like the paper's Tables 2-3 plus precision and recall. No recording.
     Compare(run_cmd::CompareArgs),
+    /// Measure each method's cost per frame against the baseline a Rust user
+    /// would write with parry3d (a TriMesh moved every frame, BVH leaf pairs
+    /// against the environment, parry's triangle test), in one run, and print
+    /// the ratios. De-duplication is off unless --dedup.
+    Bench(bench_cmd::BenchArgs),
     /// Write recordings that reproduce the paper's Figures 1-3: a triangle left
     /// out by edge de-duplication among its three neighbours; a big triangle's
     /// enclosing sphere and its four sub-spheres; a corner-tree level by level.
@@ -364,6 +370,7 @@ fn main() -> ExitCode {
             })
         }
         Command::Figures(args) => figures(args),
+        Command::Bench(args) => bench_cmd::bench(args).and_then(|out| emit(&out)),
         Command::Compare(args) => run_cmd::compare(args).and_then(|out| emit(&out)),
     };
     match result {

@@ -145,6 +145,13 @@ impl ParryReference {
         self.collect(out, parry_f64_triangles_intersect);
     }
 
+    /// Like [`Self::pairs`] with parry3d's `f32` test
+    /// ([`parry_triangles_intersect`]): what a parry3d user would write, the
+    /// baseline of `cornertree bench`.
+    pub fn pairs_f32(&mut self, out: &mut Vec<(u32, u32)>) {
+        self.collect(out, parry_triangles_intersect);
+    }
+
     /// Like [`Self::pairs`], but each candidate is decided by the exact oracle
     /// (`classify != Disjoint`) instead of parry's GJK: parry's broad phase
     /// with an exact narrow phase.
