@@ -90,6 +90,8 @@ pub struct Pipeline {
     leaf_pairs: Vec<LeafPair>,
     /// This frame's colliding pairs, sorted, distinct.
     pub pairs: Vec<(u32, u32)>,
+    /// Whether the first frame has sized the buffers.
+    warmed_up: bool,
     options: PipelineOptions,
 }
 
@@ -160,6 +162,7 @@ impl Pipeline {
             workspace: Workspace::new(),
             leaf_pairs: Vec::new(),
             pairs: Vec::new(),
+            warmed_up: false,
             options,
         }
     }
@@ -270,9 +273,19 @@ impl Pipeline {
                 self.pairs.push((p.primitive_a, p.primitive_b));
             }
         }
+        // Hits before removing repeats (a big triangle's leaves all name it).
+        let hits = self.pairs.len();
         self.pairs.sort_unstable();
         self.pairs.dedup();
         c.pairs = self.pairs.len() as u64;
+        if !self.warmed_up {
+            // After the first frame, room for twice its work, so that later
+            // frames of a similar pose do not grow the buffers.
+            self.warmed_up = true;
+            self.leaf_pairs.reserve(self.leaf_pairs.len().max(64));
+            self.pairs.reserve((2 * hits).max(64));
+            self.workspace.reserve_headroom();
+        }
         c.time.narrow_ms = t0.elapsed().as_secs_f64() * 1e3;
         c
     }

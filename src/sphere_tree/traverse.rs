@@ -44,6 +44,12 @@ impl Workspace {
     pub fn capacity(&self) -> usize {
         self.stack.capacity()
     }
+
+    /// Makes room for twice the deepest stack seen so far.
+    pub fn reserve_headroom(&mut self) {
+        let want = 2 * self.stack.capacity();
+        self.stack.reserve(want.saturating_sub(self.stack.len()));
+    }
 }
 
 /// Counters of one traversal.

@@ -1,0 +1,80 @@
+//! After the first frame, a frame of the pipeline allocates nothing: posing,
+//! skinning, on-demand refit, traversal and the narrow phase reuse their
+//! buffers (counted with a global allocator that counts).
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use cornertree::character::PoseBuffers;
+use cornertree::pipeline::Method;
+use cornertree::pipeline::driver::{Pipeline, PipelineOptions, pose_frame};
+use cornertree::scenario::{load_scenario, resolve};
+use cornertree::sphere_tree::BuildParams;
+
+struct Counting;
+
+static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn frames_after_the_first_allocate_nothing() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
+    let s = load_scenario(&path).unwrap();
+    let r = resolve(&s, path.parent().unwrap()).unwrap();
+    let options = PipelineOptions {
+        skinning: r.skinning,
+        dedup: r.dedup,
+        threshold: r.threshold,
+        build: BuildParams::default(),
+    };
+    let env = &r.environment.mesh;
+    let mut pipes: Vec<Pipeline> = Method::ALL
+        .iter()
+        .map(|&m| Pipeline::new(&r.character, env, m, options))
+        .collect();
+    let mut buffers = PoseBuffers::new(&r.character);
+    let frames = 12;
+    let placements: Vec<_> = (0..frames)
+        .map(|k| r.placement_at(k).to_homogeneous())
+        .collect();
+    let mut per_frame = Vec::with_capacity(frames);
+    for (k, placement) in placements.iter().enumerate() {
+        let before = ALLOCATIONS.load(Ordering::Relaxed);
+        let (base, _) = pose_frame(
+            &mut buffers,
+            &r.character,
+            r.clip(),
+            r.time_at(k),
+            placement,
+            r.skinning,
+        );
+        let mut pairs = 0;
+        for p in &mut pipes {
+            pairs += p.detect(&buffers, &base, &r.character.mesh, env).pairs;
+        }
+        per_frame.push(ALLOCATIONS.load(Ordering::Relaxed) - before);
+        assert!(pairs > 0, "frame {k} has contacts");
+    }
+    assert!(per_frame[0] > 0, "the first frame sizes the buffers");
+    assert!(
+        per_frame[1..].iter().all(|&n| n == 0),
+        "allocations per frame: {per_frame:?}"
+    );
+}
