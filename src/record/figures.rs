@@ -77,7 +77,17 @@ fn open(
         .with_blueprint(figure_blueprint(title, timeline))
         .save(&path)
         .map_err(|e| FigureError::Write(path.clone(), e.to_string()))?;
+    rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
+        .map_err(|e| FigureError::Write(path.clone(), e.to_string()))?;
     Ok((rec, path))
+}
+
+/// The big triangle of Figures 2 and 3, filled.
+fn log_triangle(rec: &RecordingStream, t: &Triangle) -> rerun::RecordingStreamResult<()> {
+    rec.log_static(
+        "world/triangle",
+        &mesh3d(&[t.a, t.b, t.c], &[[0, 1, 2]], TRIANGLE),
+    )
 }
 
 fn done(rec: RecordingStream, path: &Path) -> Result<(), FigureError> {
@@ -152,8 +162,6 @@ fn figure1(dir: &Path) -> Result<Figure, FigureError> {
     let w = |e: rerun::RecordingStreamError| FigureError::Write(path.clone(), e.to_string());
     let pos = mesh.positions();
     let idx = mesh.indices();
-    rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
-        .map_err(w)?;
     rec.log_static("world/left_out", &soup(pos, idx, &[t.0], LEFT_OUT))
         .map_err(w)?;
     for (k, x) in n.iter().enumerate() {
@@ -236,13 +244,7 @@ fn figure2(dir: &Path) -> Result<Figure, FigureError> {
     let small: Vec<Sphere> = parts.iter().map(|p| triangle_sphere(&p.triangle)).collect();
     let (rec, path) = open(dir, "figure2_sphere_division.rrd", title, None)?;
     let w = |e: rerun::RecordingStreamError| FigureError::Write(path.clone(), e.to_string());
-    rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
-        .map_err(w)?;
-    rec.log_static(
-        "world/triangle",
-        &mesh3d(&[t.a, t.b, t.c], &[[0, 1, 2]], TRIANGLE),
-    )
-    .map_err(w)?;
+    log_triangle(&rec, &t).map_err(w)?;
     rec.log_static(
         "world/sub_triangles",
         &rerun::LineStrips3D::new(parts.iter().map(|p| outline(&p.triangle)))
@@ -293,13 +295,7 @@ fn figure3(dir: &Path) -> Result<Figure, FigureError> {
     let level_count = levels.iter().map(|&l| l as usize + 1).max().unwrap_or(0);
     let (rec, path) = open(dir, "figure3_corner_tree.rrd", title, Some("level"))?;
     let w = |e: rerun::RecordingStreamError| FigureError::Write(path.clone(), e.to_string());
-    rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())
-        .map_err(w)?;
-    rec.log_static(
-        "world/triangle",
-        &mesh3d(&[t.a, t.b, t.c], &[[0, 1, 2]], TRIANGLE),
-    )
-    .map_err(w)?;
+    log_triangle(&rec, &t).map_err(w)?;
     let per_level = d.nodes_per_level();
     let mut lines = Vec::new();
     for level in 0..level_count {
