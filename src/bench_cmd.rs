@@ -16,9 +16,8 @@ use std::time::Instant;
 use anyhow::Context;
 use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::{Pipeline, PipelineOptions, pose_frame};
-use cornertree::scenario::{load_scenario, resolve};
-use cornertree::sphere_tree::BuildParams;
+use cornertree::pipeline::driver::{Pipeline, PipelineOptions};
+use cornertree::scenario::{open_scenario, scenario_name};
 use cornertree::truth::ParryReference;
 use serde::Serialize;
 
@@ -71,13 +70,7 @@ fn median(v: &mut [f64]) -> f64 {
 }
 
 pub fn bench(args: BenchArgs) -> anyhow::Result<String> {
-    let scenario = load_scenario(&args.scenario)?;
-    let base_dir = args
-        .scenario
-        .parent()
-        .map(PathBuf::from)
-        .unwrap_or_default();
-    let resolved = resolve(&scenario, &base_dir)?;
+    let resolved = open_scenario(&args.scenario)?;
     let methods = if args.methods.is_empty() {
         Method::ALL.to_vec()
     } else {
@@ -85,16 +78,10 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<String> {
     };
     let dedup = args.dedup && resolved.dedup;
     let frames = args.frames.map_or(resolved.frames(), |f| f as usize);
-    let name = args
-        .scenario
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let name = scenario_name(&args.scenario);
     let options = PipelineOptions {
-        skinning: resolved.skinning,
         dedup,
-        threshold: resolved.threshold,
-        build: BuildParams::default(),
+        ..resolved.pipeline_options()
     };
     let character = &resolved.character;
     let env = &resolved.environment.mesh;
@@ -113,15 +100,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<String> {
     let mut ops = vec![0u64; pipes.len()];
     let mut differ = vec![0usize; pipes.len()];
     for k in 0..frames {
-        let placement = resolved.placement_at(k).to_homogeneous();
-        let (base, skin) = pose_frame(
-            &mut buffers,
-            character,
-            resolved.clip(),
-            resolved.time_at(k),
-            &placement,
-            resolved.skinning,
-        );
+        let (base, skin) = resolved.pose_frame(&mut buffers, k);
         skin_ms.push(skin);
         let t0 = Instant::now();
         parry.update(&buffers.positions)?;

@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use anyhow::Context;
 use clap::parser::ValueSource;
 use cornertree::character::PoseBuffers;
-use cornertree::pipeline::driver::{Pipeline, PipelineOptions, pose_frame};
+use cornertree::pipeline::driver::Pipeline;
 use cornertree::pipeline::{LeafTest, Method};
 use cornertree::record::blueprint::run_blueprint;
 use cornertree::record::layout;
@@ -17,8 +17,7 @@ use cornertree::record::target::RecordingTarget;
 use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
 use cornertree::report::run::TruthRecord;
 use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable};
-use cornertree::scenario::{Resolved, load_scenario, resolve};
-use cornertree::sphere_tree::BuildParams;
+use cornertree::scenario::{Resolved, open_scenario, scenario_name};
 use cornertree::truth::{FrameTruth, MethodContext};
 
 #[derive(clap::Args)]
@@ -176,13 +175,7 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     let started = std::time::Instant::now();
     // Everything that can be wrong with the input fails here, before any file
     // is created.
-    let scenario = load_scenario(&args.scenario)?;
-    let base_dir = args
-        .scenario
-        .parent()
-        .map(PathBuf::from)
-        .unwrap_or_default();
-    let mut resolved = resolve(&scenario, &base_dir)?;
+    let mut resolved = open_scenario(&args.scenario)?;
     if !args.methods.is_empty() {
         resolved.methods = args.methods.clone();
     }
@@ -209,17 +202,8 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         }
         None => None,
     };
-    let name = args
-        .scenario
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let options = PipelineOptions {
-        skinning: resolved.skinning,
-        dedup: resolved.dedup,
-        threshold: resolved.threshold,
-        build: BuildParams::default(),
-    };
+    let name = scenario_name(&args.scenario);
+    let options = resolved.pipeline_options();
     let progress = indicatif::ProgressBar::new(frames as u64);
     progress.set_style(
         indicatif::ProgressStyle::with_template(
@@ -303,23 +287,14 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         .collect();
     let interrupted = interrupt_flag();
     let mut buffers = PoseBuffers::new(character);
-    let clip = resolved.clip();
     progress.set_message("");
     let mut played = 0;
     for k in 0..frames {
         if interrupted.load(Ordering::SeqCst) {
             break;
         }
-        let placement = resolved.placement_at(k).to_homogeneous();
         let t = resolved.time_at(k);
-        let (base, skin_ms) = pose_frame(
-            &mut buffers,
-            character,
-            clip,
-            t,
-            &placement,
-            resolved.skinning,
-        );
+        let (base, skin_ms) = resolved.pose_frame(&mut buffers, k);
         let indices = character.mesh.indices();
         if let Some(t) = truth.as_mut() {
             t.update(&buffers.positions, indices, env)

@@ -8,9 +8,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::{Pipeline, PipelineOptions, pose_frame};
-use cornertree::scenario::{load_scenario, resolve};
-use cornertree::sphere_tree::BuildParams;
+use cornertree::pipeline::driver::Pipeline;
+use cornertree::scenario::open_scenario;
 
 struct Counting;
 
@@ -36,14 +35,8 @@ static GLOBAL: Counting = Counting;
 #[test]
 fn frames_after_the_first_allocate_nothing() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
-    let s = load_scenario(&path).unwrap();
-    let r = resolve(&s, path.parent().unwrap()).unwrap();
-    let options = PipelineOptions {
-        skinning: r.skinning,
-        dedup: r.dedup,
-        threshold: r.threshold,
-        build: BuildParams::default(),
-    };
+    let r = open_scenario(&path).unwrap();
+    let options = r.pipeline_options();
     let env = &r.environment.mesh;
     let mut pipes: Vec<Pipeline> = Method::ALL
         .iter()
@@ -51,20 +44,10 @@ fn frames_after_the_first_allocate_nothing() {
         .collect();
     let mut buffers = PoseBuffers::new(&r.character);
     let frames = 12;
-    let placements: Vec<_> = (0..frames)
-        .map(|k| r.placement_at(k).to_homogeneous())
-        .collect();
     let mut per_frame = Vec::with_capacity(frames);
-    for (k, placement) in placements.iter().enumerate() {
+    for k in 0..frames {
         let before = ALLOCATIONS.load(Ordering::Relaxed);
-        let (base, _) = pose_frame(
-            &mut buffers,
-            &r.character,
-            r.clip(),
-            r.time_at(k),
-            placement,
-            r.skinning,
-        );
+        let (base, _) = r.pose_frame(&mut buffers, k);
         let mut pairs = 0;
         for p in &mut pipes {
             pairs += p.detect(&buffers, &base, &r.character.mesh, env).pairs;

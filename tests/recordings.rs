@@ -14,11 +14,10 @@ use cornertree::big_triangle::hierarchy::MAX_LEVELS;
 use cornertree::big_triangle::{Division, DivisionKind};
 use cornertree::mesh::TriangleId;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::{Pipeline, PipelineOptions};
+use cornertree::pipeline::driver::Pipeline;
 use cornertree::record::figures::{dedup_example, example_big_triangle};
 use cornertree::record::layout;
-use cornertree::scenario::{load_scenario, resolve};
-use cornertree::sphere_tree::BuildParams;
+use cornertree::scenario::open_scenario;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_cornertree"))
@@ -66,15 +65,13 @@ fn mesh_positions() -> rerun::ComponentIdentifier {
 
 /// The pipeline `run` builds for cesium_man.toml, built here from the library.
 fn cesium_pipeline(method: Method) -> (cornertree::scenario::Resolved, Pipeline) {
-    let s = load_scenario(&cesium_scenario()).unwrap();
-    let r = resolve(&s, &root().join("scenarios")).unwrap();
-    let options = PipelineOptions {
-        skinning: r.skinning,
-        dedup: r.dedup,
-        threshold: r.threshold,
-        build: BuildParams::default(),
-    };
-    let p = Pipeline::new(&r.character, &r.environment.mesh, method, options);
+    let r = open_scenario(&cesium_scenario()).unwrap();
+    let p = Pipeline::new(
+        &r.character,
+        &r.environment.mesh,
+        method,
+        r.pipeline_options(),
+    );
     (r, p)
 }
 

@@ -510,6 +510,21 @@ pub fn load_scenario(path: &Path) -> Result<Scenario, ScenarioError> {
     Scenario::parse(&text, path)
 }
 
+/// Loads `path` and resolves it against its own directory (relative asset
+/// paths are relative to the scenario file): what every command starts with.
+pub fn open_scenario(path: &Path) -> Result<Resolved, ScenarioError> {
+    let scenario = load_scenario(path)?;
+    let base_dir = path.parent().map(PathBuf::from).unwrap_or_default();
+    resolve(&scenario, &base_dir)
+}
+
+/// A scenario's name in reports and recording file names: its file stem.
+pub fn scenario_name(path: &Path) -> String {
+    path.file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
 /// `path` if absolute and present; else `base/path`, else `path` from the current directory.
 fn find_asset(base: &Path, path: &Path) -> Option<PathBuf> {
     if path.is_absolute() {

@@ -14,13 +14,15 @@
 
 use std::path::{Path, PathBuf};
 
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
 
 use crate::character::{Character, Clip, PoseBuffers, SkinningModel, generate_humanoid};
 use crate::environment::{Environment, living_room, load_scene, museum};
 use crate::geometry::Real;
 use crate::io::{CharacterSource, load_character};
 use crate::pipeline::Method;
+use crate::pipeline::driver::{PipelineOptions, pose_frame};
+use crate::sphere_tree::BuildParams;
 
 use super::{EnvironmentSection, Placement, Recording, Scenario, ScenarioError};
 
@@ -97,6 +99,29 @@ impl Resolved {
     /// The character's world placement at `frame`: world = placement · model.
     pub fn placement_at(&self, frame: usize) -> Isometry3<Real> {
         self.placement.at(frame)
+    }
+
+    /// The pipeline settings this scenario asks for.
+    pub fn pipeline_options(&self) -> PipelineOptions {
+        PipelineOptions {
+            skinning: self.skinning,
+            dedup: self.dedup,
+            threshold: self.threshold,
+            build: BuildParams::default(),
+        }
+    }
+
+    /// Poses, places and skins the character for `frame` into `buffers`;
+    /// returns the placed skeleton base and the milliseconds it took.
+    pub fn pose_frame(&self, buffers: &mut PoseBuffers, frame: usize) -> (Matrix4<Real>, f64) {
+        pose_frame(
+            buffers,
+            &self.character,
+            self.clip(),
+            self.time_at(frame),
+            &self.placement_at(frame).to_homogeneous(),
+            self.skinning,
+        )
     }
 }
 
