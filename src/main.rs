@@ -4,6 +4,7 @@ use std::process::ExitCode;
 
 mod bench_cmd;
 mod run_cmd;
+mod scaling_cmd;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
@@ -48,6 +49,12 @@ enum Command {
     /// against the environment, parry's triangle test), in one run, and print
     /// the ratios. De-duplication is off unless --dedup.
     Bench(bench_cmd::BenchArgs),
+    /// Per-frame cost against character size (generated humanoids of about
+    /// 3k, 10k, 44k and 100k vertices) and against room size (the base room
+    /// re-tessellated to about 10k, 133k and 500k vertices), each method
+    /// beside the parry3d baseline as in `bench`; prints the markdown tables
+    /// of docs/performance.md.
+    Scaling(scaling_cmd::ScalingArgs),
     /// Write recordings that reproduce the paper's Figures 1-3: a triangle left
     /// out by edge de-duplication among its three neighbours; a big triangle's
     /// enclosing sphere and its four sub-spheres; a corner-tree level by level.
@@ -371,6 +378,7 @@ fn main() -> ExitCode {
         }
         Command::Figures(args) => figures(args),
         Command::Bench(args) => bench_cmd::bench(args).and_then(|out| emit(&out)),
+        Command::Scaling(args) => scaling_cmd::scaling(args).and_then(|out| emit(&out)),
         Command::Compare(args) => run_cmd::compare(args).and_then(|out| emit(&out)),
     };
     match result {

@@ -294,7 +294,9 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
             break;
         }
         let t = resolved.time_at(k);
-        let (base, skin_ms) = resolved.pose_frame(&mut buffers, k);
+        // Every vertex is skinned for the ground truth and the recording (not
+        // part of any method's time: methods skin only what they test).
+        let (pose_ms, _) = resolved.pose_and_skin_frame(&mut buffers, k);
         let indices = character.mesh.indices();
         if let Some(t) = truth.as_mut() {
             t.update(&buffers.positions, indices, env)
@@ -307,8 +309,8 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
             .zip(&mut recorders)
             .enumerate()
         {
-            let mut c = p.detect(&buffers, &base, &character.mesh, env);
-            c.time.skinning_ms = skin_ms;
+            let mut c = p.detect(&buffers, character, env);
+            c.time.pose_ms = pose_ms;
             let mut record = FrameRecord::new(k, &c, &p.pairs);
             let scored = match truth.as_mut() {
                 Some(t) => {
@@ -336,7 +338,7 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
                 // Written to disk every frame: a killed run leaves a recording
                 // of every frame before the kill.
                 let logged = rec
-                    .log_frame(k, t, p, &buffers, &base, character, env, &c)
+                    .log_frame(k, t, p, &buffers, character, env, &c)
                     .and_then(|()| match &scored {
                         Some((mt, n)) => rec.log_truth(mt, *n, &buffers.positions, character, env),
                         None => Ok(()),

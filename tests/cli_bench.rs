@@ -49,3 +49,66 @@ fn bench_reports_speedups_and_exact_methods_match_parry() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn scaling_swaps_character_and_room_sizes() {
+    let dir = std::env::temp_dir().join(format!("cornertree-scaling-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("scaling.json");
+    let scenario = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/living_room.toml");
+    let o = Command::new(env!("CARGO_BIN_EXE_cornertree"))
+        .args(["scaling", scenario.to_str().unwrap()])
+        .args(["--characters", "1000,2000", "--environments", "20000"])
+        .args(["--character-size", "1500", "--frames", "3"])
+        .args([
+            "--method",
+            "pruned-tri-tri",
+            "--method",
+            "original",
+            "--json",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains(
+            "| character vertices | room vertices | parry3d | pruned-tri-tri | original |"
+        ),
+        "{stdout}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let sizes = |key: &str| -> Vec<(f64, u64)> {
+        v[key]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|b| {
+                assert_eq!(b["frames"], 3);
+                // The exact methods find parry's pairs at every size.
+                for m in b["methods"].as_array().unwrap() {
+                    assert_eq!(m["frames_with_other_pairs_than_parry"], 0, "{m}");
+                }
+                (
+                    b["vertices"].as_f64().unwrap(),
+                    b["environment_vertices"].as_u64().unwrap(),
+                )
+            })
+            .collect()
+    };
+    // The humanoid meets its vertex count within 1%; the room exactly.
+    let near = |got: f64, want: f64| (got - want).abs() <= 0.01 * want;
+    let by_character = sizes("by_character");
+    assert_eq!(by_character.len(), 2);
+    for ((c, e), want) in by_character.iter().zip([1000.0, 2000.0]) {
+        assert!(near(*c, want), "{c}");
+        assert_eq!(*e, 133_139);
+    }
+    let by_environment = sizes("by_environment");
+    assert_eq!(by_environment.len(), 1);
+    assert!(near(by_environment[0].0, 1500.0));
+    assert_eq!(by_environment[0].1, 20_000);
+    let _ = std::fs::remove_dir_all(&dir);
+}

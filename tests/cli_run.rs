@@ -85,6 +85,7 @@ fn same_scenario_same_counters_and_pairs() {
             .map(|mut f| {
                 for k in [
                     "time_ms",
+                    "pose_ms",
                     "skinning_ms",
                     "refit_ms",
                     "traversal_ms",

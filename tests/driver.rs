@@ -55,9 +55,9 @@ fn brute_force(character: &Character, positions: &[Point], env: &TriMesh) -> BTr
     out
 }
 
-fn options(dedup: bool) -> PipelineOptions {
+fn options(dedup: bool, skinning: SkinningModel) -> PipelineOptions {
     PipelineOptions {
-        skinning: SkinningModel::Linear,
+        skinning,
         dedup,
         threshold: 1.0,
         build: BuildParams::default(),
@@ -71,29 +71,38 @@ fn every_method_against_brute_force() {
         let character = common::random_character(seed, 6, 300);
         let env = environment(seed);
         let placement = Matrix4::new_translation(&Vector3::new(3.0, 3.0, 3.0));
+        // Both skinning models: the pipeline skins with the one it was built for.
+        let model = if seed % 2 == 0 {
+            SkinningModel::Linear
+        } else {
+            SkinningModel::Paper
+        };
         for dedup in [false, true] {
             let mut pipes: Vec<Pipeline> = Method::ALL
                 .iter()
-                .map(|&m| Pipeline::new(&character, &env, m, options(dedup)))
+                .map(|&m| Pipeline::new(&character, &env, m, options(dedup, model)))
                 .collect();
             let mut buffers = PoseBuffers::new(&character);
             for frame in 0..3u64 {
                 let local = common::random_pose(seed * 10 + frame, &character.skeleton, 1.0);
                 buffers.local.copy_from_slice(&local);
-                // Pose by hand (random poses are not a clip), then place and skin.
-                character
-                    .skeleton
-                    .world_matrices(&buffers.local, &mut buffers.world);
-                character
-                    .skeleton
-                    .skin_matrices(&buffers.world, &mut buffers.skin);
+                // Pose by hand (random poses are not a clip), then place and
+                // skin every vertex for the brute force (the pipeline skins
+                // what it needs itself).
+                buffers.pose_local(&character);
                 buffers.place(&placement);
-                buffers.skin_all(&character, SkinningModel::Linear);
-                let base = placement * character.skeleton.base();
+                buffers.skin_all(&character, model);
                 let exact = brute_force(&character, &buffers.positions, &env);
                 contacts += exact.len();
                 for p in &mut pipes {
-                    let c = p.detect(&buffers, &base, &character.mesh, &env);
+                    let c = p.detect(&buffers, &character, &env);
+                    // What it skinned is what full skinning gives.
+                    assert!(c.skinned_vertices <= buffers.positions.len() as u64);
+                    for v in 0..buffers.positions.len() as u32 {
+                        if p.skinned().is_current(v) {
+                            assert_eq!(p.skinned().position(v), buffers.positions[v as usize]);
+                        }
+                    }
                     let got: BTreeSet<(u32, u32)> = p.pairs.iter().copied().collect();
                     assert_eq!(c.pairs as usize, got.len());
                     let m = p.method;
@@ -133,22 +142,20 @@ fn same_inputs_same_counters_and_pairs() {
     let env = environment(3);
     let placement = Matrix4::new_translation(&Vector3::new(3.0, 3.0, 3.0));
     let run = || -> Vec<(FrameCounters, Vec<(u32, u32)>)> {
-        let mut p = Pipeline::new(&character, &env, Method::PlaneSphere, options(true));
+        let mut p = Pipeline::new(
+            &character,
+            &env,
+            Method::PlaneSphere,
+            options(true, SkinningModel::Linear),
+        );
         let mut b = PoseBuffers::new(&character);
         (0..4)
             .map(|k| {
                 let local = common::random_pose(k, &character.skeleton, 1.0);
                 b.local.copy_from_slice(&local);
-                character.skeleton.world_matrices(&b.local, &mut b.world);
-                character.skeleton.skin_matrices(&b.world, &mut b.skin);
+                b.pose_local(&character);
                 b.place(&placement);
-                b.skin_all(&character, SkinningModel::Linear);
-                let mut c = p.detect(
-                    &b,
-                    &(placement * character.skeleton.base()),
-                    &character.mesh,
-                    &env,
-                );
+                let mut c = p.detect(&b, &character, &env);
                 c.time = Default::default();
                 (c, p.pairs.clone())
             })

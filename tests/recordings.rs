@@ -148,6 +148,7 @@ fn run_recording_has_the_layout_and_the_reported_values() {
         "plane_sphere",
         "operations",
         "refits",
+        "skinned_vertices",
     ];
     for (path, key) in layout::COUNTER_PATHS.iter().zip(keys) {
         let logged = rrd.scalars(path);

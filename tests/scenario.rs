@@ -312,3 +312,47 @@ fn path_walks_facing_the_direction() {
             < 1e-5
     );
 }
+
+#[test]
+fn environment_vertices_retessellates_the_generated_room() {
+    let path = temp_dir().join("scaled.toml");
+    let text = GOOD.replace(
+        "kind = \"living-room\"",
+        "kind = \"living-room\"\nvertices = 20000",
+    );
+    std::fs::write(&path, text).unwrap();
+    let s = load_scenario(&path).unwrap();
+    let r = resolve(&s, &temp_dir()).unwrap();
+    assert_eq!(r.environment.mesh.positions().len(), 20_000);
+    // Same layout: the placement rule still finds the south wall.
+    assert!((r.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+
+    // Bad sizes are named at their line; a glTF scene takes none.
+    for (name, value) in [
+        ("vertices_negative.toml", "-5"),
+        ("vertices_zero.toml", "0"),
+    ] {
+        let text = GOOD.replace(
+            "kind = \"living-room\"",
+            &format!("kind = \"living-room\"\nvertices = {value}"),
+        );
+        let (path, msg) = error_of(name, &text);
+        assert!(
+            msg.starts_with(&line_prefix(&path, 8)) && msg.contains("environment.vertices"),
+            "{msg}"
+        );
+    }
+    let text = GOOD.replace(
+        "kind = \"living-room\"",
+        "kind = \"living-room\"\nvertices = 3",
+    );
+    let (_, msg) = error_of("vertices_few.toml", &text);
+    assert!(msg.contains("environment.vertices"), "{msg}");
+    let text = GOOD.replace(
+        "kind = \"living-room\"",
+        "kind = \"gltf\"\npath = \"room.glb\"\nvertices = 1000",
+    );
+    std::fs::write(temp_dir().join("room.glb"), b"").unwrap();
+    let (_, msg) = error_of("vertices_gltf.toml", &text);
+    assert!(msg.contains("environment.vertices"), "{msg}");
+}

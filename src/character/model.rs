@@ -63,13 +63,23 @@ impl Character {
     }
 }
 
-/// Reusable per-frame buffers: local transforms, world and skin matrices, and
-/// the posed vertex positions. Posing allocates nothing after construction.
+/// Reusable per-frame buffers: local transforms, world and skin matrices, the
+/// placed skeleton base, and the posed vertex positions. Posing allocates
+/// nothing after construction.
+///
+/// Posing ([`PoseBuffers::pose`], [`PoseBuffers::place`]) works per joint and
+/// is cheap; skinning every vertex ([`PoseBuffers::skin_all`]) is not, and the
+/// collision pipeline does without it: it skins only the vertices its narrow
+/// phase reads ([`super::OnDemandSkin`]).
 #[derive(Clone, Debug)]
 pub struct PoseBuffers {
     pub local: Vec<Trs>,
     pub world: Vec<Matrix4<f32>>,
     pub skin: Vec<Matrix4<f32>>,
+    /// The skeleton's base frame, placed: `placement · base` (the parent frame
+    /// of root joints, for refit and for the paper's skinning model).
+    pub base: Matrix4<f32>,
+    /// Every vertex skinned, after [`PoseBuffers::skin_all`].
     pub positions: Vec<Point>,
 }
 
@@ -80,6 +90,7 @@ impl PoseBuffers {
             local: character.skeleton.rest_pose(),
             world: vec![Matrix4::identity(); n],
             skin: vec![Matrix4::identity(); n],
+            base: *character.skeleton.base(),
             positions: character.mesh.positions().to_vec(),
         }
     }
@@ -91,12 +102,19 @@ impl PoseBuffers {
             Some(c) => c.sample(t, rest, &mut self.local),
             None => self.local.copy_from_slice(rest),
         }
+        self.pose_local(character);
+    }
+
+    /// World and skin matrices from the local transforms in `self.local`
+    /// (set by hand, or by [`PoseBuffers::pose`]); the base is unplaced.
+    pub fn pose_local(&mut self, character: &Character) {
         character
             .skeleton
             .world_matrices(&self.local, &mut self.world);
         character
             .skeleton
             .skin_matrices(&self.world, &mut self.skin);
+        self.base = *character.skeleton.base();
     }
 
     /// Moves the posed character rigidly: premultiplies world and skin matrices
@@ -106,6 +124,7 @@ impl PoseBuffers {
         for m in self.world.iter_mut().chain(self.skin.iter_mut()) {
             *m = placement * *m;
         }
+        self.base = placement * self.base;
     }
 
     /// Skins every vertex with `model` from the current skin matrices.
@@ -117,10 +136,27 @@ impl PoseBuffers {
                     .influences
                     .skin(bind, &self.skin, &mut self.positions)
             }
+            SkinningModel::Paper => character.paper.skin(
+                &character.skeleton,
+                &self.base,
+                bind,
+                &self.skin,
+                &mut self.positions,
+            ),
+        }
+    }
+
+    /// Vertex `v` skinned with `model` from the current skin matrices (the
+    /// same arithmetic as [`PoseBuffers::skin_all`], bit for bit).
+    #[inline]
+    pub fn skin_vertex(&self, character: &Character, model: SkinningModel, v: usize) -> Point {
+        let p = &character.mesh.positions()[v];
+        match model {
+            SkinningModel::Linear => character.influences.skin_vertex(v, p, &self.skin),
             SkinningModel::Paper => {
                 character
                     .paper
-                    .skin(&character.skeleton, bind, &self.skin, &mut self.positions)
+                    .skin_vertex(&character.skeleton, &self.base, v, p, &self.skin)
             }
         }
     }

@@ -245,32 +245,57 @@ impl PaperBinding {
     }
 
     /// The bind-space matrix a vertex of joint `a` blends from at `w = 0`: the
-    /// parent's skin matrix, or the skeleton base for a root joint.
+    /// parent's skin matrix, or the (placed) skeleton base for a root joint.
     #[inline]
-    pub fn parent_matrix(skeleton: &Skeleton, skin: &[Matrix4<f32>], a: JointId) -> Matrix4<f32> {
+    pub fn parent_matrix(
+        skeleton: &Skeleton,
+        skin: &[Matrix4<f32>],
+        base: &Matrix4<f32>,
+        a: JointId,
+    ) -> Matrix4<f32> {
         match skeleton.parent(a) {
             Some(p) => skin[p.index()],
-            None => *skeleton.base(),
+            None => *base,
         }
     }
 
     /// `((1 − w)·M_p + w·M_a)`: the paper's vertex transform in bind space.
     #[inline]
-    pub fn blend(skeleton: &Skeleton, skin: &[Matrix4<f32>], a: JointId, w: f32) -> Matrix4<f32> {
-        Self::parent_matrix(skeleton, skin, a) * (1.0 - w) + skin[a.index()] * w
+    pub fn blend(
+        skeleton: &Skeleton,
+        skin: &[Matrix4<f32>],
+        base: &Matrix4<f32>,
+        a: JointId,
+        w: f32,
+    ) -> Matrix4<f32> {
+        Self::parent_matrix(skeleton, skin, base, a) * (1.0 - w) + skin[a.index()] * w
+    }
+
+    /// Skins vertex `v` (bind position `p`) with the paper's model; `base` is
+    /// the skeleton's base frame as placed this frame.
+    #[inline]
+    pub fn skin_vertex(
+        &self,
+        skeleton: &Skeleton,
+        base: &Matrix4<f32>,
+        v: usize,
+        p: &Point,
+        skin: &[Matrix4<f32>],
+    ) -> Point {
+        Self::blend(skeleton, skin, base, self.joint[v], self.weight[v]).transform_point(p)
     }
 
     /// Skins every vertex with the paper's model.
     pub fn skin(
         &self,
         skeleton: &Skeleton,
+        base: &Matrix4<f32>,
         bind: &[Point],
         skin: &[Matrix4<f32>],
         out: &mut [Point],
     ) {
         for (v, p) in bind.iter().enumerate() {
-            let m = Self::blend(skeleton, skin, self.joint[v], self.weight[v]);
-            out[v] = m.transform_point(p);
+            out[v] = self.skin_vertex(skeleton, base, v, p, skin);
         }
     }
 }
@@ -336,14 +361,14 @@ mod tests {
         for (w, expected) in [(1.0, rigid_child), (0.0, rigid_parent)] {
             let b = PaperBinding::new(vec![JointId(1)], vec![w], &s).unwrap();
             let mut out = [Point::origin()];
-            b.skin(&s, &p, &skin, &mut out);
+            b.skin(&s, s.base(), &p, &skin, &mut out);
             assert!((out[0] - expected).norm() < 1e-5, "w={w}");
         }
         // The paper's model equals two-influence linear blend skinning.
         let b = PaperBinding::new(vec![JointId(1)], vec![0.25], &s).unwrap();
         let inf = Influences::new(vec![[0, 1, 0, 0]], vec![[0.75, 0.25, 0.0, 0.0]], 2).unwrap();
         let (mut x, mut y) = ([Point::origin()], [Point::origin()]);
-        b.skin(&s, &p, &skin, &mut x);
+        b.skin(&s, s.base(), &p, &skin, &mut x);
         inf.skin(&p, &skin, &mut y);
         assert!((x[0] - y[0]).norm() < 1e-5);
     }

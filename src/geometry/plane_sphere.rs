@@ -15,14 +15,41 @@ use super::{Sphere, Triangle};
 /// sphere counts as meeting, consistent with the closed sets everywhere else.
 /// A degenerate (zero-area) triangle has no plane: `false`.
 pub fn sphere_meets_plane(s: &Sphere, t: &Triangle) -> bool {
-    let [v0, v1, v2] = t.vertices().map(|v| v.coords.cast::<f64>());
-    let p = (v1 - v0).cross(&(v2 - v0));
-    let p_norm = p.norm();
-    if p_norm == 0.0 {
-        return false;
+    TrianglePlane::new(t).meets(s)
+}
+
+/// The plane of a triangle, prepared for [`sphere_meets_plane`]: `v0`, `p`
+/// and `‖p‖` of Algorithm 1, computed once for a static triangle. A test is
+/// then a subtraction, a dot product and a comparison, with the same
+/// arithmetic, so the same answers bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrianglePlane {
+    v0: nalgebra::Vector3<f64>,
+    p: nalgebra::Vector3<f64>,
+    /// `‖p‖`; 0 for a degenerate triangle (no sphere meets it).
+    p_norm: f64,
+}
+
+impl TrianglePlane {
+    pub fn new(t: &Triangle) -> Self {
+        let [v0, v1, v2] = t.vertices().map(|v| v.coords.cast::<f64>());
+        let p = (v1 - v0).cross(&(v2 - v0));
+        Self {
+            v0,
+            p,
+            p_norm: p.norm(),
+        }
     }
-    let n = s.center.coords.cast::<f64>() - v0;
-    p.dot(&n).abs() <= s.radius as f64 * p_norm
+
+    /// [`sphere_meets_plane`] against this plane's triangle.
+    #[inline]
+    pub fn meets(&self, s: &Sphere) -> bool {
+        if self.p_norm == 0.0 {
+            return false;
+        }
+        let n = s.center.coords.cast::<f64>() - self.v0;
+        self.p.dot(&n).abs() <= s.radius as f64 * self.p_norm
+    }
 }
 
 /// Signed gap between the ball and the closed triangle: the distance from

@@ -1,31 +1,32 @@
 //! The per-frame collision pipeline for one method (paper §3–6).
 //!
-//! Each frame: the character is posed and placed, every vertex skinned; the
+//! Each frame: the character is posed and placed (joint matrices only); the
 //! character's tree is traversed against the environment's, refitting each
 //! character sphere the first time traversal reaches it (on demand); the
 //! overlapping leaf pairs are gathered and then answered by the narrow phase:
 //! the triangle-triangle test, or inside a big triangle's corner-tree or
 //! quaternary tree the plane-sphere test of the character leaf's sphere against
-//! the big triangle's plane. Counters follow the paper's operation model.
+//! the big triangle's plane. Only the corners of the character triangles the
+//! narrow phase tests are skinned ([`OnDemandSkin`]). Counters follow the
+//! paper's operation model.
 //!
-//! Time is split into skinning, refit, traversal and narrow phase. Refit runs
-//! inside traversal; its share is measured with the CPU's time-stamp counter
-//! around each refit (a few nanoseconds each) and taken out of traversal.
-//! After the first frame nothing is allocated.
+//! Time is split into posing (by the caller), skinning, refit, traversal and
+//! narrow phase. Refit runs inside traversal; its share is measured with the
+//! CPU's time-stamp counter around each refit (a few nanoseconds each) and
+//! taken out of traversal. After the first frame nothing is allocated.
 
 use std::time::Instant;
 
 use nalgebra::Matrix4;
 use serde::Serialize;
 
-use crate::character::{Character, Clip, PoseBuffers, SkinningModel};
+use crate::character::{Character, Clip, OnDemandSkin, PoseBuffers, SkinningModel};
 use crate::geometry::ops;
-use crate::geometry::plane_sphere::sphere_meets_plane;
 use crate::geometry::tri_tri::triangles_intersect;
 use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::{RefitState, Refitter};
-use crate::sphere_tree::traverse::LeafPair;
+use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
 use crate::sphere_tree::{
     BuildParams, Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded,
 };
@@ -42,12 +43,19 @@ pub struct FrameCounters {
     pub refits: u64,
     /// Distinct colliding (character triangle, environment triangle) pairs.
     pub pairs: u64,
+    /// Character vertices skinned this frame (corners of triangle-tested
+    /// character triangles).
+    pub skinned_vertices: u64,
     pub time: FrameTime,
 }
 
 /// Milliseconds spent per stage.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct FrameTime {
+    /// Joint matrices: clip sampling, world and skin matrices, placement (set
+    /// by the caller, who poses once for every method).
+    pub pose_ms: f64,
+    /// The vertices the narrow phase reads.
     pub skinning_ms: f64,
     pub refit_ms: f64,
     pub traversal_ms: f64,
@@ -56,7 +64,7 @@ pub struct FrameTime {
 
 impl FrameTime {
     pub fn total_ms(&self) -> f64 {
-        self.skinning_ms + self.refit_ms + self.traversal_ms + self.narrow_ms
+        self.pose_ms + self.skinning_ms + self.refit_ms + self.traversal_ms + self.narrow_ms
     }
 }
 
@@ -86,24 +94,29 @@ pub struct Pipeline {
     pub character_tree: CharacterTree,
     pub environment: EnvironmentTree,
     refit: RefitState,
+    skin: OnDemandSkin,
     workspace: Workspace,
     leaf_pairs: Vec<LeafPair>,
     /// This frame's colliding pairs, sorted, distinct.
     pub pairs: Vec<(u32, u32)>,
     /// Whether the first frame has sized the buffers.
     warmed_up: bool,
+    /// Whether refit time is measured apart from traversal.
+    time_refit: bool,
     options: PipelineOptions,
 }
 
-/// [`Hierarchy`] over the character tree that refits on first request and
-/// counts the time-stamp ticks spent refitting.
-struct TimedRefit<'a> {
+/// [`Hierarchy`] over the character tree that refits on first request and,
+/// if `TIMED`, counts the time-stamp ticks spent refitting (two `rdtsc` per
+/// refit: a quarter of the traversal's time on a virtual machine, so `bench`
+/// turns it off).
+struct TimedRefit<'a, const TIMED: bool> {
     refitter: Refitter<'a>,
     base: Matrix4<f32>,
     ticks: u64,
 }
 
-impl Hierarchy for TimedRefit<'_> {
+impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
     fn tree(&self) -> &SphereTree {
         &self.refitter.tree.tree
     }
@@ -113,8 +126,11 @@ impl Hierarchy for TimedRefit<'_> {
         if self.refitter.state.is_fresh(id) {
             return self.refitter.state.spheres[id.index()];
         }
-        let t0 = ticks();
         let base = self.base;
+        if !TIMED {
+            return self.refitter.refit_node(id, &base);
+        }
+        let t0 = ticks();
         let s = self.refitter.refit_node(id, &base);
         self.ticks += ticks().wrapping_sub(t0);
         s
@@ -159,10 +175,12 @@ impl Pipeline {
             character_tree,
             environment,
             refit,
+            skin: OnDemandSkin::new(character.mesh.positions().len()),
             workspace: Workspace::new(),
             leaf_pairs: Vec::new(),
             pairs: Vec::new(),
             warmed_up: false,
+            time_refit: true,
             options,
         }
     }
@@ -177,95 +195,70 @@ impl Pipeline {
         &self.refit
     }
 
-    /// Runs one frame on an already posed, placed and skinned character
-    /// (`buffers`), against the environment triangles `env` (positions may
-    /// differ from the build pose only for static content; moving objects are
-    /// not re-fit here). `base` is the placed skeleton base.
+    /// Runs one frame of `character`, already posed and placed in `buffers`
+    /// (its vertices need not be skinned), against the environment triangles
+    /// `env` (positions may differ from the build pose only for static
+    /// content; moving objects are not re-fit here).
     pub fn detect(
         &mut self,
         buffers: &PoseBuffers,
-        base: &Matrix4<f32>,
-        character: &TriMesh,
+        character: &Character,
         env: &TriMesh,
     ) -> FrameCounters {
         let mut c = FrameCounters::default();
-        self.refit.begin_frame_with_base(&buffers.skin, base);
         let t0 = Instant::now();
         let tick0 = ticks();
-        let mut od = TimedRefit {
-            refitter: Refitter {
-                tree: &self.character_tree,
-                skin: &buffers.skin,
-                state: &mut self.refit,
-            },
-            base: *base,
-            ticks: 0,
-        };
-        self.leaf_pairs.clear();
-        let leaf_pairs = &mut self.leaf_pairs;
-        let envt = &self.environment;
-        let mut guard_tests = 0u64;
-        let stats = if self.method.prunes_at_plane() {
-            // Every character sphere paired with a big triangle's leaf must
-            // meet that triangle's plane (Algorithm 1), or the pair is dropped
-            // with everything under it: a triangle crossing the big triangle
-            // has corners on both sides of its plane, so every sphere holding
-            // it meets the plane, and no contact is lost.
-            let guard = |j: NodeId, s: &crate::geometry::Sphere| {
-                if !envt.is_division_leaf(j) {
-                    return true;
-                }
-                guard_tests += 1;
-                let p = envt.tree.node(j).primitive().unwrap_or(0);
-                sphere_meets_plane(s, &env.triangle(TriangleId(p)))
-            };
-            traverse_guarded(
-                &mut od,
-                &mut FixedTree(&envt.tree),
-                &mut self.workspace,
-                guard,
-                |p| leaf_pairs.push(p),
-            )
+        let (stats, guard_tests, refit_ticks) = if self.time_refit {
+            self.broad_phase::<true>(buffers)
         } else {
-            traverse(
-                &mut od,
-                &mut FixedTree(&envt.tree),
-                &mut self.workspace,
-                |p| leaf_pairs.push(p),
-            )
+            self.broad_phase::<false>(buffers)
         };
-        let refit_ticks = od.ticks;
         let elapsed = t0.elapsed().as_secs_f64() * 1e3;
-        let total_ticks = ticks().wrapping_sub(tick0).max(1);
-        c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
+        if self.time_refit {
+            let total_ticks = ticks().wrapping_sub(tick0).max(1);
+            c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
+        }
         c.time.traversal_ms = elapsed - c.time.refit_ms;
         c.sphere_sphere = stats.sphere_tests;
         c.plane_sphere = guard_tests;
         c.refits = self.refit.refits;
 
+        // Skinning: the corners of every character triangle to be tested.
+        let t0 = Instant::now();
+        let model = self.options.skinning;
+        let indices = character.mesh.indices();
+        self.skin.begin_frame();
+        for p in &self.leaf_pairs {
+            if !self.plane_sphere_leaf(p) {
+                for v in indices[p.primitive_a as usize] {
+                    self.skin.ensure(buffers, character, model, v);
+                }
+            }
+        }
+        c.skinned_vertices = self.skin.skinned();
+        c.time.skinning_ms = t0.elapsed().as_secs_f64() * 1e3;
+
         // Narrow phase.
         let t0 = Instant::now();
         self.pairs.clear();
-        let positions = &buffers.positions;
         for p in &self.leaf_pairs {
             let et = env.triangle(TriangleId(p.primitive_b));
-            let hit = if self.environment.is_division_leaf(p.leaf_b)
-                && self.method.big_leaf_test() == LeafTest::PlaneSphere
-            {
+            let hit = if self.plane_sphere_leaf(p) {
                 if self.method.prunes_at_plane() {
                     // Already tested on the way down.
                     true
                 } else {
                     c.plane_sphere += 1;
-                    sphere_meets_plane(&self.refit.spheres[p.leaf_a.index()], &et)
+                    let s = &self.refit.spheres[p.leaf_a.index()];
+                    self.environment.leaf_meets_plane(p.leaf_b, s) == Some(true)
                 }
             } else {
                 c.tri_tri += 1;
-                let [a, b, cc] = character.indices()[p.primitive_a as usize];
+                let [a, b, cc] = indices[p.primitive_a as usize];
                 let ct = crate::geometry::Triangle::new(
-                    positions[a as usize],
-                    positions[b as usize],
-                    positions[cc as usize],
+                    self.skin.position(a),
+                    self.skin.position(b),
+                    self.skin.position(cc),
                 );
                 triangles_intersect(&ct, &et)
             };
@@ -290,15 +283,89 @@ impl Pipeline {
         c
     }
 
+    /// Traversal with on-demand refit (paper §3): fills `leaf_pairs`; returns
+    /// the traversal's counters, the plane-sphere tests made on the way down
+    /// and, if `TIMED`, the time-stamp ticks spent refitting.
+    fn broad_phase<const TIMED: bool>(
+        &mut self,
+        buffers: &PoseBuffers,
+    ) -> (TraversalStats, u64, u64) {
+        self.refit
+            .begin_frame_with_base(&buffers.skin, &buffers.base);
+        let mut od = TimedRefit::<TIMED> {
+            refitter: Refitter {
+                tree: &self.character_tree,
+                skin: &buffers.skin,
+                state: &mut self.refit,
+            },
+            base: buffers.base,
+            ticks: 0,
+        };
+        self.leaf_pairs.clear();
+        let leaf_pairs = &mut self.leaf_pairs;
+        let envt = &self.environment;
+        let mut guard_tests = 0u64;
+        let stats = if self.method.prunes_at_plane() {
+            // Every character sphere paired with a big triangle's leaf must
+            // meet that triangle's plane (Algorithm 1), or the pair is dropped
+            // with everything under it: a triangle crossing the big triangle
+            // has corners on both sides of its plane, so every sphere holding
+            // it meets the plane, and no contact is lost.
+            let guard = |j: NodeId, s: &crate::geometry::Sphere| match envt.leaf_meets_plane(j, s) {
+                None => true,
+                Some(meets) => {
+                    guard_tests += 1;
+                    meets
+                }
+            };
+            traverse_guarded(
+                &mut od,
+                &mut FixedTree(&envt.tree),
+                &mut self.workspace,
+                guard,
+                |p| leaf_pairs.push(p),
+            )
+        } else {
+            traverse(
+                &mut od,
+                &mut FixedTree(&envt.tree),
+                &mut self.workspace,
+                |p| leaf_pairs.push(p),
+            )
+        };
+        (stats, guard_tests, od.ticks)
+    }
+
+    /// Whether to split refit time from traversal time (on by default). The
+    /// split costs two time-stamp reads per refit sphere; with it off,
+    /// `refit_ms` is 0 and traversal includes refit.
+    pub fn set_refit_timing(&mut self, on: bool) {
+        self.time_refit = on;
+    }
+
+    /// Whether leaf pair `p` is answered by the plane-sphere test (a big
+    /// triangle's division leaf, in a plane-sphere method) rather than by the
+    /// triangle-triangle test.
+    #[inline]
+    fn plane_sphere_leaf(&self, p: &LeafPair) -> bool {
+        self.environment.is_division_leaf(p.leaf_b)
+            && self.method.big_leaf_test() == LeafTest::PlaneSphere
+    }
+
+    /// This frame's skinned vertices (those the narrow phase read).
+    pub fn skinned(&self) -> &OnDemandSkin {
+        &self.skin
+    }
+
     /// Refits every character sphere for this frame's pose (for display: it
     /// is not part of the measured work and changes no counter already taken).
-    pub fn refit_all(&mut self, buffers: &PoseBuffers, base: &Matrix4<f32>) {
+    pub fn refit_all(&mut self, buffers: &PoseBuffers) {
         Refitter {
             tree: &self.character_tree,
             skin: &buffers.skin,
             state: &mut self.refit,
         }
-        .refit_all(base);
+        .refit_all(&buffers.base);
     }
 
     pub fn options(&self) -> &PipelineOptions {
@@ -321,21 +388,17 @@ impl Hierarchy for FixedTree<'_> {
     }
 }
 
-/// Poses, places and skins a character for one frame, timing it.
+/// Poses and places a character for one frame (joint matrices; no vertex is
+/// skinned), returning the milliseconds it took.
 pub fn pose_frame(
     buffers: &mut PoseBuffers,
     character: &Character,
     clip: Option<&Clip>,
     t: f32,
     placement: &Matrix4<f32>,
-    model: SkinningModel,
-) -> (Matrix4<f32>, f64) {
+) -> f64 {
     let t0 = Instant::now();
     buffers.pose(character, clip, t);
     buffers.place(placement);
-    buffers.skin_all(character, model);
-    (
-        placement * character.skeleton.base(),
-        t0.elapsed().as_secs_f64() * 1e3,
-    )
+    t0.elapsed().as_secs_f64() * 1e3
 }

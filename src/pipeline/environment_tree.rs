@@ -4,7 +4,8 @@
 
 use crate::big_triangle::Division;
 use crate::big_triangle::hierarchy::MAX_LEVELS;
-use crate::geometry::Real;
+use crate::geometry::plane_sphere::TrianglePlane;
+use crate::geometry::{Real, Sphere};
 use crate::mesh::{TriMesh, TriangleId};
 use crate::sphere_tree::{BuildParams, Node, NodeId, SphereTree, build_tree};
 
@@ -13,6 +14,9 @@ use super::Method;
 /// Default big-triangle threshold in metres (ours; the paper gives none): a
 /// sub-triangle at most this long has a sphere of a few character leaves.
 pub const DEFAULT_THRESHOLD: Real = 0.15;
+
+/// [`EnvironmentTree`]'s mark of a node that is no division leaf.
+const NOT_A_DIVISION_LEAF: u32 = u32::MAX;
 
 /// When a triangle is big: its longest edge exceeds this.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -45,6 +49,12 @@ pub struct EnvironmentTree {
     pub divisions: Vec<Division>,
     /// For every node inside a division: (division, node in that division).
     pub division_node: Vec<Option<(u32, u32)>>,
+    /// For every node: its division's index if it is a division leaf, else
+    /// [`NOT_A_DIVISION_LEAF`] (4 bytes a node, read on every pair traversal
+    /// keeps, so kept apart from the 12-byte `division_node`).
+    leaf_division: Vec<u32>,
+    /// The plane of each division's big triangle, prepared once.
+    planes: Vec<TrianglePlane>,
     /// Whether each environment triangle is big.
     pub big: Vec<bool>,
     /// Whether a division stopped at the level cap somewhere.
@@ -68,6 +78,8 @@ impl EnvironmentTree {
                 tree: base,
                 divisions: vec![],
                 division_node: vec![None; n],
+                leaf_division: vec![NOT_A_DIVISION_LEAF; n],
+                planes: vec![],
                 big,
                 capped: false,
             };
@@ -121,12 +133,24 @@ impl EnvironmentTree {
             }));
             (src.sphere, src.primitive())
         });
-        let division_node = order
+        let division_node: Vec<Option<(u32, u32)>> = order
             .iter()
             .map(|&f| match resolve(f).1 {
                 From::Div(d, k) => Some((d, k)),
                 From::Base(_) => None,
             })
+            .collect();
+        let leaf_division = division_node
+            .iter()
+            .zip(tree.nodes())
+            .map(|(d, n)| match d {
+                Some((d, _)) if n.is_leaf() => *d,
+                _ => NOT_A_DIVISION_LEAF,
+            })
+            .collect();
+        let planes = divisions
+            .iter()
+            .map(|d| TrianglePlane::new(&mesh.triangle(d.original)))
             .collect();
         Self {
             method,
@@ -134,15 +158,28 @@ impl EnvironmentTree {
             tree,
             divisions,
             division_node,
+            leaf_division,
+            planes,
             big,
             capped,
+        }
+    }
+
+    /// Whether the sphere `s` meets the plane of the big triangle whose
+    /// division leaf is `id` (Algorithm 1), or `None` if `id` is no division
+    /// leaf.
+    #[inline]
+    pub fn leaf_meets_plane(&self, id: NodeId, s: &Sphere) -> Option<bool> {
+        match self.leaf_division[id.index()] {
+            NOT_A_DIVISION_LEAF => None,
+            d => Some(self.planes[d as usize].meets(s)),
         }
     }
 
     /// Whether node `id` is a leaf of a big triangle's division.
     #[inline]
     pub fn is_division_leaf(&self, id: NodeId) -> bool {
-        self.division_node[id.index()].is_some() && self.tree.node(id).is_leaf()
+        self.leaf_division[id.index()] != NOT_A_DIVISION_LEAF
     }
 
     /// Number of big triangles.

@@ -34,8 +34,11 @@ pub fn run_blueprint(sphere_level: usize) -> Blueprint {
         "- /world/environment/spheres/**",
         "- /world/avatar/spheres/**",
     ]);
-    let tests = TimeSeriesView::new("tests and refits per frame")
-        .with_contents(["/stats/tests/**", "/stats/refits"]);
+    let tests = TimeSeriesView::new("tests and refits per frame").with_contents([
+        "/stats/tests/**",
+        "/stats/refits",
+        "/stats/skinned_vertices",
+    ]);
     let ops = TimeSeriesView::new("operations (paper's model)").with_origin("/stats/operations");
     let pairs = TimeSeriesView::new("colliding pairs (reported, exact)")
         .with_contents(["/stats/pairs", "/stats/reference_pairs"]);

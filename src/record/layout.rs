@@ -39,16 +39,18 @@ pub fn level_path(root: &str, level: usize) -> String {
 }
 
 /// The counters logged as scalars, with their entity paths under `stats/`.
-pub const COUNTER_PATHS: [&str; 6] = [
+pub const COUNTER_PATHS: [&str; 7] = [
     "stats/tests/sphere_sphere",
     "stats/tests/tri_tri",
     "stats/tests/plane_sphere",
     "stats/operations",
     "stats/refits",
+    "stats/skinned_vertices",
     "stats/pairs",
 ];
 /// Time per stage, milliseconds.
-pub const TIME_PATHS: [&str; 5] = [
+pub const TIME_PATHS: [&str; 6] = [
+    "stats/time_ms/pose",
     "stats/time_ms/skinning",
     "stats/time_ms/refit",
     "stats/time_ms/traversal",

@@ -188,7 +188,6 @@ impl RunRecorder {
         t: f32,
         pipeline: &mut Pipeline,
         buffers: &PoseBuffers,
-        base: &Matrix4<f32>,
         character: &Character,
         env: &TriMesh,
         c: &FrameCounters,
@@ -223,7 +222,7 @@ impl RunRecorder {
         )?;
 
         if k.is_multiple_of(self.options.spheres_every as usize) {
-            self.log_spheres(pipeline, buffers, base)?;
+            self.log_spheres(pipeline, buffers)?;
         }
         let rec = &self.rec;
         let state = pipeline.refit_state();
@@ -286,6 +285,7 @@ impl RunRecorder {
             c.plane_sphere as f64,
             ops as f64,
             c.refits as f64,
+            c.skinned_vertices as f64,
             c.pairs as f64,
         ];
         for (path, v) in layout::COUNTER_PATHS.iter().zip(values) {
@@ -293,6 +293,7 @@ impl RunRecorder {
         }
         let tm = &c.time;
         let times = [
+            tm.pose_ms,
             tm.skinning_ms,
             tm.refit_ms,
             tm.traversal_ms,
@@ -335,12 +336,11 @@ impl RunRecorder {
         &mut self,
         pipeline: &mut Pipeline,
         buffers: &PoseBuffers,
-        base: &Matrix4<f32>,
     ) -> rerun::RecordingStreamResult<()> {
         let rec = &self.rec;
         // Character spheres per level: those refit this frame, or all.
         if self.options.all_spheres {
-            pipeline.refit_all(buffers, base);
+            pipeline.refit_all(buffers);
         }
         let state = pipeline.refit_state();
         let avatar_tree = &pipeline.character_tree.tree;
@@ -511,12 +511,13 @@ fn frame_report(method: &str, k: usize, t: f32, c: &FrameCounters) -> String {
          | counter | value |\n|---|---|\n\
          | sphere-sphere tests | {} |\n| triangle-triangle tests | {} |\n\
          | plane-sphere tests | {} |\n| operations | {} |\n| refits | {} |\n\
-         | colliding pairs | {} |\n| time (ms) | {:.3} |\n",
+         | skinned vertices | {} |\n| colliding pairs | {} |\n| time (ms) | {:.3} |\n",
         c.sphere_sphere,
         c.tri_tri,
         c.plane_sphere,
         c.operations(),
         c.refits,
+        c.skinned_vertices,
         c.pairs,
         c.time.total_ms()
     )

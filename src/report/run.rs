@@ -109,8 +109,10 @@ pub struct FrameRecord {
     pub plane_sphere: u64,
     pub operations: u64,
     pub refits: u64,
-    /// Total of the four stages below.
+    pub skinned_vertices: u64,
+    /// Total of the five stages below.
     pub time_ms: f64,
+    pub pose_ms: f64,
     pub skinning_ms: f64,
     pub refit_ms: f64,
     pub traversal_ms: f64,
@@ -131,7 +133,9 @@ impl FrameRecord {
             plane_sphere: c.plane_sphere,
             operations: c.operations(),
             refits: c.refits,
+            skinned_vertices: c.skinned_vertices,
             time_ms: c.time.total_ms(),
+            pose_ms: c.time.pose_ms,
             skinning_ms: c.time.skinning_ms,
             refit_ms: c.time.refit_ms,
             traversal_ms: c.time.traversal_ms,

@@ -61,9 +61,19 @@ pub struct CharacterSection {
 /// `[environment]`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum EnvironmentSection {
-    Museum { seed: u64 },
-    LivingRoom { seed: u64 },
-    Gltf { path: PathBuf },
+    /// `vertices`: the layout tessellated to this many vertices instead of
+    /// the paper's count (scaling studies).
+    Museum {
+        seed: u64,
+        vertices: Option<usize>,
+    },
+    LivingRoom {
+        seed: u64,
+        vertices: Option<usize>,
+    },
+    Gltf {
+        path: PathBuf,
+    },
 }
 
 /// `[placement]`: exactly one of `start`, `path`, `gap`.
@@ -267,6 +277,7 @@ enum EnvKind {
 struct RawEnvironment {
     kind: EnvKind,
     seed: Option<u64>,
+    vertices: Option<Spanned<i64>>,
     path: Option<Spanned<String>>,
 }
 
@@ -330,10 +341,21 @@ impl Scenario {
                     ));
                 }
                 let seed = env.seed.unwrap_or(0);
+                let vertices = match &env.vertices {
+                    None => None,
+                    Some(v) if *v.get_ref() > 0 => Some(*v.get_ref() as usize),
+                    Some(v) => {
+                        return Err(err_at(
+                            v.span(),
+                            "environment.vertices",
+                            format!("must be a positive whole number, not {}", v.get_ref()),
+                        ));
+                    }
+                };
                 if env.kind == EnvKind::Museum {
-                    EnvironmentSection::Museum { seed }
+                    EnvironmentSection::Museum { seed, vertices }
                 } else {
-                    EnvironmentSection::LivingRoom { seed }
+                    EnvironmentSection::LivingRoom { seed, vertices }
                 }
             }
             EnvKind::Gltf => {
@@ -349,6 +371,13 @@ impl Scenario {
                         env_span,
                         "environment.seed",
                         "a glTF scene takes no seed".into(),
+                    ));
+                }
+                if let Some(v) = &env.vertices {
+                    return Err(err_at(
+                        v.span(),
+                        "environment.vertices",
+                        "a glTF scene is used as it is; vertices is for generated rooms".into(),
                     ));
                 }
                 let path = PathBuf::from(p.get_ref());

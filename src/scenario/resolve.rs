@@ -14,10 +14,12 @@
 
 use std::path::{Path, PathBuf};
 
-use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
 
 use crate::character::{Character, Clip, PoseBuffers, SkinningModel, generate_humanoid};
-use crate::environment::{Environment, living_room, load_scene, museum};
+use crate::environment::{
+    Environment, living_room, living_room_scaled, load_scene, museum, museum_scaled,
+};
 use crate::geometry::Real;
 use crate::io::{CharacterSource, load_character};
 use crate::pipeline::Method;
@@ -111,17 +113,25 @@ impl Resolved {
         }
     }
 
-    /// Poses, places and skins the character for `frame` into `buffers`;
-    /// returns the placed skeleton base and the milliseconds it took.
-    pub fn pose_frame(&self, buffers: &mut PoseBuffers, frame: usize) -> (Matrix4<Real>, f64) {
+    /// Poses and places the character for `frame` into `buffers` (joint
+    /// matrices and base; no vertex skinned); returns the milliseconds it took.
+    pub fn pose_frame(&self, buffers: &mut PoseBuffers, frame: usize) -> f64 {
         pose_frame(
             buffers,
             &self.character,
             self.clip(),
             self.time_at(frame),
             &self.placement_at(frame).to_homogeneous(),
-            self.skinning,
         )
+    }
+
+    /// [`Resolved::pose_frame`] and every vertex skinned; returns the
+    /// milliseconds of each: `(pose, skinning)`.
+    pub fn pose_and_skin_frame(&self, buffers: &mut PoseBuffers, frame: usize) -> (f64, f64) {
+        let pose_ms = self.pose_frame(buffers, frame);
+        let t0 = std::time::Instant::now();
+        buffers.skin_all(&self.character, self.skinning);
+        (pose_ms, t0.elapsed().as_secs_f64() * 1e3)
     }
 }
 
@@ -193,8 +203,17 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
         }
     };
     let environment = match &s.environment {
-        EnvironmentSection::Museum { seed } => museum(*seed),
-        EnvironmentSection::LivingRoom { seed } => living_room(*seed),
+        EnvironmentSection::Museum { seed, vertices } => match vertices {
+            None => museum(*seed),
+            Some(n) => {
+                museum_scaled(*seed, *n).map_err(|e| fail("environment.vertices", e.to_string()))?
+            }
+        },
+        EnvironmentSection::LivingRoom { seed, vertices } => match vertices {
+            None => living_room(*seed),
+            Some(n) => living_room_scaled(*seed, *n)
+                .map_err(|e| fail("environment.vertices", e.to_string()))?,
+        },
         EnvironmentSection::Gltf { path } => {
             load_scene(&asset(base_dir, path))
                 .map_err(|e| fail("environment.path", e.to_string()))?

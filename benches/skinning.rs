@@ -1,0 +1,82 @@
+//! Per-frame character work outside collision detection: posing (joint
+//! matrices), skinning every vertex under both models, and refitting every
+//! sphere of the character's tree (paper §3). Throughput is per vertex or per
+//! sphere.
+//!
+//! `cargo bench --bench skinning`
+
+#[path = "common/fixtures.rs"]
+mod fixtures;
+
+use std::hint::black_box;
+
+use cornertree::character::{PoseBuffers, SkinningModel};
+use cornertree::pipeline::Method;
+use cornertree::pipeline::driver::Pipeline;
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+
+use fixtures::{FrameCycle, scenario};
+
+/// CesiumMan (3,273 vertices) and the paper-scale humanoid (44,345).
+const CHARACTERS: [&str; 2] = ["cesium_man", "living_room"];
+
+fn skinning(c: &mut Criterion) {
+    for name in CHARACTERS {
+        let r = scenario(name);
+        let character = &r.character;
+        let vertices = character.mesh.positions().len();
+        let mut g = c.benchmark_group(format!("pose_and_skin/{name}"));
+        g.sample_size(20);
+        let mut buffers = PoseBuffers::new(character);
+        let mut cycle = FrameCycle::new(r.frames());
+        g.throughput(Throughput::Elements(character.skeleton.len() as u64));
+        g.bench_function("pose joints", |b| {
+            b.iter(|| black_box(r.pose_frame(&mut buffers, cycle.next_frame())))
+        });
+        g.throughput(Throughput::Elements(vertices as u64));
+        for (label, model) in [
+            ("skin all, linear blend", SkinningModel::Linear),
+            ("skin all, paper model", SkinningModel::Paper),
+        ] {
+            r.pose_frame(&mut buffers, 3);
+            g.bench_function(label, |b| {
+                b.iter(|| {
+                    buffers.skin_all(character, model);
+                    black_box(&buffers.positions);
+                })
+            });
+        }
+        g.finish();
+    }
+}
+
+fn full_refit(c: &mut Criterion) {
+    for name in CHARACTERS {
+        let r = scenario(name);
+        let character = &r.character;
+        // Any method: the character's tree is the same for all of them.
+        let mut p = Pipeline::new(
+            character,
+            &r.environment.mesh,
+            Method::Original,
+            r.pipeline_options(),
+        );
+        let spheres = p.character_tree.tree.len() as u64;
+        let mut g = c.benchmark_group(format!("refit/{name}"));
+        g.sample_size(20);
+        g.throughput(Throughput::Elements(spheres));
+        let mut buffers = PoseBuffers::new(character);
+        let mut cycle = FrameCycle::new(r.frames());
+        g.bench_function("every sphere", |b| {
+            b.iter(|| {
+                r.pose_frame(&mut buffers, cycle.next_frame());
+                p.refit_all(&buffers);
+                black_box(p.refit_state().spheres.len())
+            })
+        });
+        g.finish();
+    }
+}
+
+criterion_group!(benches, skinning, full_refit);
+criterion_main!(benches);
