@@ -17,7 +17,8 @@ use cornertree::geometry::{Point, Sphere, Triangle, Vector};
 use cornertree::truth::parry_reference::{
     parry_f64_triangles_intersect, parry_triangle, parry_triangles_intersect,
 };
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use parry3d::shape::Triangle as ParryTriangle;
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -70,37 +71,17 @@ fn kernels(c: &mut Criterion) {
 
     let mut g = c.benchmark_group("narrow_phase");
     g.throughput(Throughput::Elements(PAIRS as u64));
-    g.bench_function("tri-tri (ours)", |b| {
-        b.iter(|| {
-            pairs
-                .iter()
-                .filter(|(x, y)| triangles_intersect(black_box(x), black_box(y)))
-                .count()
-        })
+    bench_test(&mut g, "tri-tri (ours)", &pairs, |(x, y)| {
+        triangles_intersect(x, y)
     });
-    g.bench_function("tri-tri exact oracle", |b| {
-        b.iter(|| {
-            pairs
-                .iter()
-                .filter(|(x, y)| triangles_intersect_exact(black_box(x), black_box(y)))
-                .count()
-        })
+    bench_test(&mut g, "tri-tri exact oracle", &pairs, |(x, y)| {
+        triangles_intersect_exact(x, y)
     });
-    g.bench_function("tri-tri parry3d f32", |b| {
-        b.iter(|| {
-            parry_pairs
-                .iter()
-                .filter(|(x, y)| parry_triangles_intersect(black_box(x), black_box(y)))
-                .count()
-        })
+    bench_test(&mut g, "tri-tri parry3d f32", &parry_pairs, |(x, y)| {
+        parry_triangles_intersect(x, y)
     });
-    g.bench_function("tri-tri parry3d-f64", |b| {
-        b.iter(|| {
-            parry_pairs
-                .iter()
-                .filter(|(x, y)| parry_f64_triangles_intersect(black_box(x), black_box(y)))
-                .count()
-        })
+    bench_test(&mut g, "tri-tri parry3d-f64", &parry_pairs, |(x, y)| {
+        parry_f64_triangles_intersect(x, y)
     });
 
     let mut rng = SmallRng::seed_from_u64(11);
@@ -110,28 +91,28 @@ fn kernels(c: &mut Criterion) {
             (s(), s())
         })
         .collect();
-    g.bench_function("sphere-sphere", |b| {
-        b.iter(|| {
-            spheres
-                .iter()
-                .filter(|(x, y)| black_box(x).overlaps(black_box(y)))
-                .count()
-        })
-    });
+    bench_test(&mut g, "sphere-sphere", &spheres, |(x, y)| x.overlaps(y));
     let plane_sphere: Vec<(Sphere, Triangle)> = spheres
         .iter()
         .zip(&pairs)
         .map(|((s, _), (t, _))| (*s, *t))
         .collect();
-    g.bench_function("plane-sphere", |b| {
-        b.iter(|| {
-            plane_sphere
-                .iter()
-                .filter(|(s, t)| sphere_meets_plane(black_box(s), black_box(t)))
-                .count()
-        })
+    bench_test(&mut g, "plane-sphere", &plane_sphere, |(s, t)| {
+        sphere_meets_plane(s, t)
     });
     g.finish();
+}
+
+/// Times `test` over every input of `inputs` (one iteration: all of them).
+fn bench_test<T>(
+    g: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    inputs: &[T],
+    test: impl Fn(&T) -> bool,
+) {
+    g.bench_function(name, |b| {
+        b.iter(|| inputs.iter().filter(|x| test(black_box(x))).count())
+    });
 }
 
 criterion_group!(benches, kernels);

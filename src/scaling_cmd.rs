@@ -163,7 +163,12 @@ fn table(rows: &[Bench], methods: &[Method]) -> String {
             b.vertices, b.environment_vertices, b.parry_ms_per_frame
         );
         for m in &b.methods {
-            out += &format!(" {:.3} ({:.1}×) |", m.ms_per_frame, m.speedup_vs_parry);
+            // Two significant digits below 1×, one decimal above.
+            let digits = if m.speedup_vs_parry < 1.0 { 2 } else { 1 };
+            out += &format!(
+                " {:.3} ({:.*}×) |",
+                m.ms_per_frame, digits, m.speedup_vs_parry
+            );
         }
         out += "\n";
     }

@@ -1,31 +1,40 @@
 //! `cornertree bench`: the documented JSON, and the exact methods finding
 //! parry's pairs on the frames timed.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
-#[test]
-fn bench_reports_speedups_and_exact_methods_match_parry() {
-    let dir = std::env::temp_dir().join(format!("cornertree-bench-{}", std::process::id()));
+/// A fresh directory for one test's output, and the shipped living room.
+fn setup(test: &str) -> (PathBuf, PathBuf) {
+    let dir = std::env::temp_dir().join(format!("cornertree-{test}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let out = dir.join("bench.json");
     let scenario = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/living_room.toml");
+    (dir, scenario)
+}
+
+/// Runs the command with `args` and `--json OUT`; returns its standard output
+/// and the JSON it wrote.
+fn run_json(args: &[&str], out: &Path) -> (String, serde_json::Value) {
     let o = Command::new(env!("CARGO_BIN_EXE_cornertree"))
-        .args([
-            "bench",
-            scenario.to_str().unwrap(),
-            "--frames",
-            "20",
-            "--json",
-        ])
-        .arg(&out)
+        .args(args)
+        .arg("--json")
+        .arg(out)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let stdout = String::from_utf8_lossy(&o.stdout);
+    let json = serde_json::from_str(&std::fs::read_to_string(out).unwrap()).unwrap();
+    (String::from_utf8_lossy(&o.stdout).into_owned(), json)
+}
+
+#[test]
+fn bench_reports_speedups_and_exact_methods_match_parry() {
+    let (dir, scenario) = setup("bench");
+    let out = dir.join("bench.json");
+    let (stdout, v) = run_json(
+        &["bench", scenario.to_str().unwrap(), "--frames", "20"],
+        &out,
+    );
     assert!(stdout.contains("parry3d baseline"), "{stdout}");
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let parry = v["parry_ms_per_frame"].as_f64().unwrap();
     assert!(parry > 0.0);
     let methods = v["methods"].as_array().unwrap();
@@ -52,34 +61,33 @@ fn bench_reports_speedups_and_exact_methods_match_parry() {
 
 #[test]
 fn scaling_swaps_character_and_room_sizes() {
-    let dir = std::env::temp_dir().join(format!("cornertree-scaling-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let (dir, scenario) = setup("scaling");
     let out = dir.join("scaling.json");
-    let scenario = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/living_room.toml");
-    let o = Command::new(env!("CARGO_BIN_EXE_cornertree"))
-        .args(["scaling", scenario.to_str().unwrap()])
-        .args(["--characters", "1000,2000", "--environments", "20000"])
-        .args(["--character-size", "1500", "--frames", "3"])
-        .args([
+    let (stdout, v) = run_json(
+        &[
+            "scaling",
+            scenario.to_str().unwrap(),
+            "--characters",
+            "1000,2000",
+            "--environments",
+            "20000",
+            "--character-size",
+            "1500",
+            "--frames",
+            "3",
             "--method",
             "pruned-tri-tri",
             "--method",
             "original",
-            "--json",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let stdout = String::from_utf8_lossy(&o.stdout);
+        ],
+        &out,
+    );
     assert!(
         stdout.contains(
             "| character vertices | room vertices | parry3d | pruned-tri-tri | original |"
         ),
         "{stdout}"
     );
-    let v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let sizes = |key: &str| -> Vec<(f64, u64)> {
         v[key]
             .as_array()
