@@ -127,8 +127,6 @@ pub struct RefitData {
     weights: Vec<f32>,
     /// Most slots any node has (sizes the per-frame scratch).
     max_slots: usize,
-    /// Most corners any node has (sizes the per-frame scratch).
-    max_corners: usize,
 }
 
 impl RefitData {
@@ -214,7 +212,6 @@ impl RefitData {
             self.weights.extend(w);
         }
         self.max_slots = self.max_slots.max(slots);
-        self.max_corners = self.max_corners.max(corners.len());
         self.rules.push(Rule::Corners {
             jstart: jstart as u32,
             jend: self.joints.len() as u32,
@@ -294,8 +291,6 @@ pub struct RefitState {
     pub refits: u64,
     /// Slot centres of the node being refit.
     scratch: Vec<Vector>,
-    /// Corner points of the node being refit.
-    corners: Vec<Point>,
 }
 
 impl RefitState {
@@ -307,7 +302,6 @@ impl RefitState {
             sigma: vec![1.0; joints + 1],
             refits: 0,
             scratch: vec![Vector::zeros(); tree.refit.max_slots.max(1)],
-            corners: vec![Point::origin(); tree.refit.max_corners.max(1)],
         }
     }
 
@@ -403,17 +397,14 @@ impl Refitter<'_> {
                             .fold(Vector::zeros(), |acc, (v, x)| acc + v * *x),
                     )
                 };
-                // Each corner once: its centre's share, then its distance.
-                let corners = &mut self.state.corners[..count as usize];
                 let mut sum = Vector::zeros();
-                for (p, w) in corners.iter_mut().zip(weights.chunks_exact(k)) {
-                    *p = corner(w);
-                    sum += p.coords;
+                for w in weights.chunks_exact(k) {
+                    sum += corner(w).coords;
                 }
                 let center = Point::from(sum / count as f32);
                 let mut spread = 0.0f64;
-                for p in corners.iter() {
-                    spread = spread.max(crate::geometry::sphere::distance_f64(p, &center));
+                for w in weights.chunks_exact(k) {
+                    spread = spread.max(crate::geometry::sphere::distance_f64(&corner(w), &center));
                 }
                 // Relative slack for f32 rounding in the corner points.
                 let r = (spread + rest.sphere.radius as f64 * sigma as f64) * (1.0 + 1e-6);
