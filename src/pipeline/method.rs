@@ -27,20 +27,22 @@ pub enum Method {
     /// Big triangles get a full four-way hierarchy; leaves run the
     /// triangle-triangle test against the big triangle (§5, "Sphere Division").
     SphereDivision,
-    /// Big triangles get a corner-tree; leaves run the plane-sphere test of
-    /// Algorithm 1 (§5, the paper's method).
+    /// Big triangles get a corner-tree; every character sphere paired with
+    /// a corner-tree leaf is tested against the big triangle's plane
+    /// (Algorithm 1) on the way down, and a limb whose sphere misses the
+    /// plane is not descended; at character leaves that test is the answer
+    /// (§5, the paper's method as we read it: docs/results.md).
     PlaneSphere,
-    /// A full quaternary tree with plane-sphere leaves: the alternative §5
-    /// argues against.
+    /// A full quaternary tree instead of the corner-tree, otherwise as
+    /// [`Method::PlaneSphere`]: the alternative §5 argues against.
     QuaternaryPlaneSphere,
-    /// Corner-trees with plane-sphere leaves, and every character sphere
-    /// paired with a big triangle's leaf tested against its plane on the way
-    /// down: a limb whose sphere misses the plane is not descended (our
-    /// reading of how the paper's counts are reached; docs/results.md).
-    PlaneSpherePruned,
+    /// Corner-trees with the plane-sphere test at leaf pairs only (§5 read
+    /// literally): a character standing inside a corner-tree leaf's large
+    /// sphere is descended to every leaf.
+    PlaneSphereLeaf,
     /// Corner-trees pruned against the big triangle's plane on the way down
-    /// as [`Method::PlaneSpherePruned`], with triangle-triangle leaves: the
-    /// exact answer (same pairs as `original`) at a fraction of the cost.
+    /// as [`Method::PlaneSphere`], with triangle-triangle leaves: the exact
+    /// answer (same pairs as `original`) at a fraction of the cost.
     PrunedTriTri,
 }
 
@@ -60,7 +62,7 @@ impl Method {
         Method::SphereDivision,
         Method::PlaneSphere,
         Method::QuaternaryPlaneSphere,
-        Method::PlaneSpherePruned,
+        Method::PlaneSphereLeaf,
         Method::PrunedTriTri,
     ];
 
@@ -69,7 +71,7 @@ impl Method {
         match self {
             Method::Original => None,
             Method::SphereDivision | Method::QuaternaryPlaneSphere => Some(DivisionKind::Full),
-            Method::PlaneSphere | Method::PlaneSpherePruned | Method::PrunedTriTri => {
+            Method::PlaneSphere | Method::PlaneSphereLeaf | Method::PrunedTriTri => {
                 Some(DivisionKind::Corner)
             }
         }
@@ -80,7 +82,7 @@ impl Method {
     pub fn big_leaf_test(self) -> LeafTest {
         match self {
             Method::Original | Method::SphereDivision | Method::PrunedTriTri => LeafTest::TriTri,
-            Method::PlaneSphere | Method::QuaternaryPlaneSphere | Method::PlaneSpherePruned => {
+            Method::PlaneSphere | Method::QuaternaryPlaneSphere | Method::PlaneSphereLeaf => {
                 LeafTest::PlaneSphere
             }
         }
@@ -89,7 +91,10 @@ impl Method {
     /// Whether character spheres meeting a big triangle's leaf are tested
     /// against its plane during traversal (not only at character leaves).
     pub fn prunes_at_plane(self) -> bool {
-        matches!(self, Method::PlaneSpherePruned | Method::PrunedTriTri)
+        matches!(
+            self,
+            Method::PlaneSphere | Method::QuaternaryPlaneSphere | Method::PrunedTriTri
+        )
     }
 
     /// The name used on the command line, in files and in reports.
@@ -99,7 +104,7 @@ impl Method {
             Method::SphereDivision => "sphere-division",
             Method::PlaneSphere => "plane-sphere",
             Method::QuaternaryPlaneSphere => "quaternary-plane-sphere",
-            Method::PlaneSpherePruned => "plane-sphere-pruned",
+            Method::PlaneSphereLeaf => "plane-sphere-leaf",
             Method::PrunedTriTri => "pruned-tri-tri",
         }
     }
