@@ -67,6 +67,7 @@ fn options(dedup: bool, skinning: SkinningModel) -> PipelineOptions {
 #[test]
 fn every_method_against_brute_force() {
     let mut contacts = 0;
+    let mut skinned_all = 0;
     for seed in 0..4u64 {
         let character = common::random_character(seed, 6, 300);
         let env = environment(seed);
@@ -96,8 +97,11 @@ fn every_method_against_brute_force() {
                 contacts += exact.len();
                 for p in &mut pipes {
                     let c = p.detect(&buffers, &character, &env);
-                    // What it skinned is what full skinning gives.
+                    // What it skinned is what full skinning gives (on demand,
+                    // or every vertex when most are tested).
                     assert!(c.skinned_vertices <= buffers.positions.len() as u64);
+                    skinned_all +=
+                        usize::from(c.skinned_vertices == buffers.positions.len() as u64);
                     for v in 0..buffers.positions.len() as u32 {
                         if p.skinned().is_current(v) {
                             assert_eq!(p.skinned().position(v), buffers.positions[v as usize]);
@@ -141,6 +145,7 @@ fn every_method_against_brute_force() {
             }
         }
     }
+    assert!(skinned_all > 0, "the skin-everything path is exercised");
     assert!(
         contacts > 50,
         "the scenes must collide ({contacts} contacts)"

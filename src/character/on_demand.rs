@@ -6,7 +6,10 @@
 //! every vertex would cost more than the rest of the frame. Each vertex is
 //! skinned the first time it is asked for in a frame and kept until the next;
 //! a frame stamp per vertex says which are current, so starting a frame costs
-//! nothing and nothing is allocated after construction.
+//! nothing and nothing is allocated after construction. When a frame asks for
+//! nearly everything (the original method tests every character triangle),
+//! [`OnDemandSkin::skin_all`] skins every vertex in order instead, which is
+//! cheaper than checking stamps millions of times.
 
 use crate::geometry::Point;
 
@@ -20,6 +23,8 @@ pub struct OnDemandSkin {
     stamp: Vec<u32>,
     frame: u32,
     skinned: u64,
+    /// Every vertex was skinned this frame.
+    all: bool,
 }
 
 impl OnDemandSkin {
@@ -29,12 +34,14 @@ impl OnDemandSkin {
             stamp: vec![0; vertices],
             frame: 0,
             skinned: 0,
+            all: false,
         }
     }
 
     /// Forgets the previous frame's positions.
     pub fn begin_frame(&mut self) {
         self.skinned = 0;
+        self.all = false;
         self.frame = self.frame.wrapping_add(1);
         if self.frame == 0 {
             // After 2³² − 1 frames the stamps wrap: clear them once.
@@ -53,11 +60,21 @@ impl OnDemandSkin {
         v: u32,
     ) {
         let i = v as usize;
-        if self.stamp[i] != self.frame {
+        if !self.all && self.stamp[i] != self.frame {
             self.stamp[i] = self.frame;
             self.positions[i] = pose.skin_vertex(character, model, i);
             self.skinned += 1;
         }
+    }
+
+    /// Skins every vertex for this frame's pose (the same arithmetic as
+    /// [`OnDemandSkin::ensure`], in vertex order).
+    pub fn skin_all(&mut self, pose: &PoseBuffers, character: &Character, model: SkinningModel) {
+        for (i, p) in self.positions.iter_mut().enumerate() {
+            *p = pose.skin_vertex(character, model, i);
+        }
+        self.skinned = self.positions.len() as u64;
+        self.all = true;
     }
 
     /// Vertex `v`'s position, skinned this frame by [`OnDemandSkin::ensure`].
@@ -69,7 +86,7 @@ impl OnDemandSkin {
 
     /// Whether vertex `v` was skinned this frame.
     pub fn is_current(&self, v: u32) -> bool {
-        self.frame != 0 && self.stamp[v as usize] == self.frame
+        self.all || (self.frame != 0 && self.stamp[v as usize] == self.frame)
     }
 
     /// Vertices skinned this frame.
@@ -118,6 +135,17 @@ mod tests {
                     assert_eq!(lazy.position(v), pose.positions[v as usize], "vertex {v}");
                 }
             }
+            // Everything at once: the same positions, all current; the next
+            // frame starts empty again.
+            lazy.begin_frame();
+            lazy.skin_all(&pose, &c, model);
+            lazy.ensure(&pose, &c, model, 3);
+            assert_eq!(lazy.skinned(), u64::from(n));
+            for v in 0..n {
+                assert_eq!(lazy.position(v), pose.positions[v as usize], "vertex {v}");
+            }
+            lazy.begin_frame();
+            assert!(!lazy.is_current(0));
         }
     }
 }
