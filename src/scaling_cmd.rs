@@ -11,7 +11,7 @@ use anyhow::{Context, bail};
 use cornertree::character::HumanoidParams;
 use cornertree::io::CharacterSource;
 use cornertree::pipeline::Method;
-use cornertree::scenario::{EnvironmentSection, load_scenario, resolve, scenario_name};
+use cornertree::scenario::{EnvironmentSection, Scenario, load_scenario, resolve, scenario_name};
 use serde::Serialize;
 
 use crate::bench_cmd::{Bench, measure};
@@ -56,13 +56,15 @@ struct Scaling {
     by_environment: Vec<Bench>,
 }
 
-/// The base scenario with another humanoid size and room size.
+/// The base scenario `s` (read from `base`) with another humanoid size and
+/// room size.
 fn variant(
     base: &Path,
+    s: &Scenario,
     character_vertices: usize,
     environment_vertices: Option<usize>,
 ) -> anyhow::Result<cornertree::scenario::Resolved> {
-    let mut s = load_scenario(base)?;
+    let mut s = s.clone();
     let seed = match &s.character.source {
         CharacterSource::Humanoid(h) => h.seed,
         CharacterSource::File(_) => 0,
@@ -106,6 +108,7 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
                 .map(|&e| (args.character_size, Some(e))),
         )
         .collect();
+    let base = load_scenario(&args.scenario)?;
     let progress = indicatif::ProgressBar::new((configs.len() * frames) as u64);
     let mut results = Vec::with_capacity(configs.len());
     for &(c, e) in &configs {
@@ -114,7 +117,7 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
             Some(e) => format!("{name}, room of {e} vertices, humanoid of {c}"),
         };
         progress.set_message(label.clone());
-        let resolved = variant(&args.scenario, c, e).with_context(|| label.clone())?;
+        let resolved = variant(&args.scenario, &base, c, e).with_context(|| label.clone())?;
         results.push(measure(
             &resolved, &label, &methods, frames, false, &progress,
         )?);

@@ -129,21 +129,19 @@ impl PoseBuffers {
 
     /// Skins every vertex with `model` from the current skin matrices.
     pub fn skin_all(&mut self, character: &Character, model: SkinningModel) {
-        let bind = character.mesh.positions();
-        match model {
-            SkinningModel::Linear => {
-                character
-                    .influences
-                    .skin(bind, &self.skin, &mut self.positions)
-            }
-            SkinningModel::Paper => character.paper.skin(
-                &character.skeleton,
-                &self.base,
-                bind,
-                &self.skin,
-                &mut self.positions,
-            ),
-        }
+        skin_every_vertex(
+            character,
+            model,
+            &self.skin,
+            &self.base,
+            &mut self.positions,
+        );
+    }
+
+    /// [`PoseBuffers::skin_all`] into `out` (one point per vertex) instead
+    /// of `self.positions`.
+    pub fn skin_all_into(&self, character: &Character, model: SkinningModel, out: &mut [Point]) {
+        skin_every_vertex(character, model, &self.skin, &self.base, out);
     }
 
     /// Vertex `v` skinned with `model` from the current skin matrices (the
@@ -159,5 +157,22 @@ impl PoseBuffers {
                     .skin_vertex(&character.skeleton, &self.base, v, p, &self.skin)
             }
         }
+    }
+}
+
+/// Every vertex of `character` skinned with `model` into `out`.
+fn skin_every_vertex(
+    character: &Character,
+    model: SkinningModel,
+    skin: &[Matrix4<f32>],
+    base: &Matrix4<f32>,
+    out: &mut [Point],
+) {
+    let bind = character.mesh.positions();
+    match model {
+        SkinningModel::Linear => character.influences.skin(bind, skin, out),
+        SkinningModel::Paper => character
+            .paper
+            .skin(&character.skeleton, base, bind, skin, out),
     }
 }

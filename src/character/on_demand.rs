@@ -67,12 +67,10 @@ impl OnDemandSkin {
         }
     }
 
-    /// Skins every vertex for this frame's pose (the same arithmetic as
-    /// [`OnDemandSkin::ensure`], in vertex order).
+    /// Skins every vertex for this frame's pose ([`PoseBuffers::skin_all`]'s
+    /// arithmetic, which is [`OnDemandSkin::ensure`]'s).
     pub fn skin_all(&mut self, pose: &PoseBuffers, character: &Character, model: SkinningModel) {
-        for (i, p) in self.positions.iter_mut().enumerate() {
-            *p = pose.skin_vertex(character, model, i);
-        }
+        pose.skin_all_into(character, model, &mut self.positions);
         self.skinned = self.positions.len() as u64;
         self.all = true;
     }
