@@ -294,9 +294,14 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
             break;
         }
         let t = resolved.time_at(k);
-        // Every vertex is skinned for the ground truth and the recording (not
-        // part of any method's time: methods skin only what they test).
-        let (pose_ms, _) = resolved.pose_and_skin_frame(&mut buffers, k);
+        // Every vertex is skinned for the ground truth, the recording and a
+        // dump, when any of them is on (not part of any method's time:
+        // methods skin only what they test).
+        let pose_ms = resolved.pose_frame(&mut buffers, k);
+        let dumped = dump.as_ref().is_some_and(|(dk, _)| *dk == k);
+        if truth.is_some() || recorders.iter().any(Option::is_some) || dumped {
+            buffers.skin_all(character, resolved.skinning);
+        }
         let indices = character.mesh.indices();
         if let Some(t) = truth.as_mut() {
             t.update(&buffers.positions, indices, env)
