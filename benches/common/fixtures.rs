@@ -1,4 +1,4 @@
-//! Shared bench fixtures: the shipped scenarios, loaded once per bench target.
+//! Shared bench fixtures: the shipped scenarios, loaded by each bench function.
 //! Everything is deterministic (the scenarios fix their seeds; random inputs
 //! use fixed seeds).
 
