@@ -57,13 +57,18 @@ fn early_exits_pay_less() {
 }
 
 #[test]
-fn tropp_pays_less_than_edge_crossing_on_a_piercing_pair() {
-    // Edge crossing solves a system per crossing edge of both triangles; Tropp
-    // solves the two of one triangle, sharing their cross products.
-    let pierce = tri([0.2, 0.2, -1.0], [0.2, 0.2, 1.0], [0.5, 2.0, 0.0]);
-    let (_, t) = paid_tropp(&base(), &pierce);
-    let (_, e) = paid_edge_crossing(&base(), &pierce);
-    assert!(t < e, "Tropp {t}, edge crossing {e}");
+fn tropp_looks_from_the_other_side_only_when_needed() {
+    // Each crosses the other's plane and misses it. The base's corners are
+    // off the plane x + y = 0.8 of `apart`, so one section decides; two
+    // corners lie on the plane x + y = 1 of `beside`, so Tropp's test also
+    // solves the base's section of that plane.
+    let apart = tri([1.4, -0.6, -1.0], [1.4, -0.6, 1.0], [1.6, -0.8, 0.0]);
+    let beside = tri([1.25, -0.25, -1.0], [1.25, -0.25, 1.0], [1.75, -0.75, 0.0]);
+    let (hit, one) = paid_tropp(&base(), &apart);
+    assert!(!hit);
+    let (hit, two) = paid_tropp(&base(), &beside);
+    assert!(!hit);
+    assert!(one < two, "one section {one}, two sections {two}");
 }
 
 #[test]

@@ -17,7 +17,11 @@
 //!    Cramer's rule. Its determinant is `dₖ - dᵢ`, with `dᵢ = (u × v) · wᵢ`
 //!    the corner's offset from the plane; the offsets are computed once and
 //!    also decide, by their signs, whether `B` reaches the plane at all
-//!    (all strictly on one side: no contact, the cheap early exit).
+//!    (all strictly on one side: no contact, the cheap early exit). We take
+//!    that exit both ways (`A`'s corners against `B`'s plane too) before
+//!    solving anything: in the pipeline a small character triangle usually
+//!    lies on one side of a big environment triangle's plane while that
+//!    plane cuts the small triangle's.
 //! 3. Determinants shared between the edges. The three systems are strongly
 //!    related: their determinants are differences of the same three offsets
 //!    (they sum to zero, so the third edge's follows from the other two), and
@@ -47,18 +51,19 @@
 //!    (possibly one-point) segment. Corners lying on the plane give
 //!    crossing points at those corners (`t = 0` or `1`), so contacts at
 //!    corners and edges count, as for closed triangles they must.
-//!
-//! 6. Roles swapped on a miss (our addition). The test is asymmetric: a
-//!    contact exactly at a corner or an edge of `A` (a foot's corner resting
-//!    on a floor) lies on the canonical triangle's boundary, where crossing
-//!    points computed from `B`'s edges fall on either side by rounding. So
-//!    when `B` reaches `A`'s plane but its segment misses `A`, the test runs
-//!    once more with `B` as the parametrised triangle, where such a contact
-//!    is a corner or edge of `A` crossing `B`'s plane inside `B`. Pairs
-//!    rejected by the plane-side exit, and all pairs that meet, pay one pass.
-//!    On `tests/tri_tri_agreement.rs` this brings the touching pairs decided
-//!    against the oracle from 26,524 to 2,734 (of 309,727), and the
-//!    living-room scenario's foot-on-floor contacts back to parry's pairs.
+//! 6. Roles swapped on a miss, where it matters (our addition). Seen from
+//!    `A`'s plane the test is asymmetric: a contact exactly at a corner or
+//!    an edge of `A` lying on `B` (a foot's corner resting on a floor) is on
+//!    the canonical triangle's boundary, where crossing points computed from
+//!    `B`'s edges fall on either side by rounding. So when `B`'s segment
+//!    misses `A` and a corner of `A` lies on `B`'s plane (its offset, known
+//!    from the exit of step 2, is zero), the test runs once more in `B`'s
+//!    parameter plane, where that corner or edge of `A` is a section point
+//!    inside `B`. On `tests/tri_tri_agreement.rs` this brings the touching
+//!    pairs decided against the oracle from 26,524 to 7,193 (of 309,727;
+//!    the edge-crossing test: 2,931; swapping on every miss: 2,734, but 13 %
+//!    slower on `benches/kernels.rs`), and the living-room scenario's
+//!    foot-on-floor contacts back to parry's pairs.
 //!
 //! Offsets within their rounding error are snapped to zero
 //! ([`super::coplanar_degenerate`]); `tests/tri_tri_agreement.rs` checks the
@@ -99,11 +104,15 @@ pub fn triangles_intersect_as<T: Scalar>(t1: &Triangle, t2: &Triangle) -> bool {
             if one_side(&da) {
                 return false;
             }
-            // B's section of A's plane against A; on a miss, A's section of
-            // B's plane against B.
+            // B's section of A's plane against A; on a miss with a corner of
+            // A on B's plane, A's section of B's plane against B.
             match section_meets(&a, &ua, &va, &na, &b, &wb, &db, true) {
                 Some(hit) => hit,
-                None => section_meets(&b, &ub, &vb, &nb, &a, &wa, &da, true) == Some(true),
+                None => {
+                    let z = T::zero();
+                    (da[0] == z || da[1] == z || da[2] == z)
+                        && section_meets(&b, &ub, &vb, &nb, &a, &wa, &da, true) == Some(true)
+                }
             }
         }
         // A segment (or point) against a triangle: its section of the plane
