@@ -5,6 +5,7 @@ use std::process::ExitCode;
 mod bench_cmd;
 mod run_cmd;
 mod scaling_cmd;
+mod study_cmd;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
@@ -59,6 +60,15 @@ enum Command {
     /// out by edge de-duplication among its three neighbours; a big triangle's
     /// enclosing sphere and its four sub-spheres; a corner-tree level by level.
     Figures(FiguresArgs),
+    /// The experiment behind docs/results.md: when does the plane-sphere
+    /// method read as §5 writes it (Algorithm 1 where a character leaf meets
+    /// a corner-tree leaf) need as few tests as Tables 2-3 report? Plays each
+    /// base scenario with one condition changed at a time: where the
+    /// character walks along the big surface, how the surface is tessellated,
+    /// the big-triangle threshold, edge de-duplication, the gap; prints the
+    /// maximum tests and operations per frame and the largest corner-tree
+    /// leaf a character leaf met, beside the paper's figures.
+    PlaneSphereStudy(study_cmd::StudyArgs),
 }
 
 #[derive(clap::Args)]
@@ -380,6 +390,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench_cmd::bench(args).and_then(|out| emit(&out)),
         Command::Scaling(args) => scaling_cmd::scaling(args).and_then(|out| emit(&out)),
         Command::Compare(args) => run_cmd::compare(args).and_then(|out| emit(&out)),
+        Command::PlaneSphereStudy(args) => study_cmd::study(args).and_then(|out| emit(&out)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -20,7 +20,9 @@ use crate::geometry::Point;
 use super::{JointId, Skeleton};
 
 /// Which skinning model animates the mesh.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SkinningModel {
     /// glTF linear blend skinning, up to four influences.

@@ -361,6 +361,12 @@ impl Pipeline {
             && self.method.big_leaf_test() == LeafTest::PlaneSphere
     }
 
+    /// This frame's overlapping leaf pairs, as traversal handed them to the
+    /// narrow phase.
+    pub fn leaf_pairs(&self) -> &[LeafPair] {
+        &self.leaf_pairs
+    }
+
     /// This frame's skinned vertices (those the narrow phase read).
     pub fn skinned(&self) -> &OnDemandSkin {
         &self.skin
