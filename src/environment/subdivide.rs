@@ -11,8 +11,8 @@
 use std::collections::HashMap;
 
 use super::{EnvObject, Environment};
-use crate::geometry::Point;
-use crate::mesh::TriMesh;
+use crate::geometry::{Point, Real, Triangle};
+use crate::mesh::{TriMesh, TriangleId};
 
 /// Most triangles one object may be split into (`4^times` per triangle).
 pub const MAX_SUBDIVIDED_TRIANGLES: usize = 4_000_000;
@@ -23,7 +23,7 @@ pub enum SubdivideError {
     #[error("no object named {name:?} in {room}")]
     NoSuchObject { name: String, room: String },
     #[error(
-        "splitting {name:?} ({triangles} triangles) {times} times would make more than {max} triangles",
+        "splitting {name} ({triangles} triangles) {times} times would make more than {max} triangles",
         max = MAX_SUBDIVIDED_TRIANGLES
     )]
     TooMany {
@@ -38,44 +38,103 @@ impl Environment {
     /// edge midpoints, `times` times. Objects keep their order, names, kinds
     /// and motions; vertex and triangle ranges are renumbered.
     pub fn subdivide_object(&self, name: &str, times: u32) -> Result<Environment, SubdivideError> {
-        let Some(target) = self.objects.iter().position(|o| o.name == name) else {
+        if self.object(name).is_none() {
             return Err(SubdivideError::NoSuchObject {
                 name: name.to_owned(),
                 room: self.name.clone(),
             });
+        }
+        self.subdivide_where(|o, _| if o.name == name { times } else { 0 }, name)
+            .map(|mut env| {
+                env.name = format!("{} ({name} split {times}x)", self.name);
+                env
+            })
+    }
+
+    /// This room with every triangle whose longest edge exceeds `threshold`
+    /// (the big triangles of §4) split four-way until its longest edge is at
+    /// most `piece` metres (`piece > 0`); a split triangle's neighbours keep
+    /// their edges (the surface is the same, the indexing has T-junctions
+    /// there).
+    pub fn subdivide_big(
+        &self,
+        threshold: Real,
+        piece: Real,
+    ) -> Result<Environment, SubdivideError> {
+        let times = |t: &Triangle| {
+            let mut k = 0;
+            let mut edge = t.longest_edge();
+            while edge > threshold && edge > piece && k < 32 {
+                edge *= 0.5;
+                k += 1;
+            }
+            k
         };
-        let count = self.objects[target].triangles.len();
-        let grown = 4usize
-            .checked_pow(times)
-            .and_then(|f| f.checked_mul(count))
+        self.subdivide_where(|_, t| times(t), "big triangles")
+            .map(|mut env| {
+                env.name = format!("{} (big triangles split to {piece} m)", self.name);
+                env
+            })
+    }
+
+    /// Splits each triangle the number of times `times_of` gives (0: kept),
+    /// object by object.
+    fn subdivide_where(
+        &self,
+        times_of: impl Fn(&EnvObject, &Triangle) -> u32,
+        what: &str,
+    ) -> Result<Environment, SubdivideError> {
+        let (pos, idx) = (self.mesh.positions(), self.mesh.indices());
+        let mut times = vec![0u32; idx.len()];
+        for o in &self.objects {
+            for t in o.triangles.clone() {
+                times[t as usize] = times_of(o, &self.mesh.triangle(TriangleId(t)));
+            }
+        }
+        let grown = times
+            .iter()
+            .filter(|&&k| k > 0)
+            .try_fold(0usize, |n, &k| {
+                4usize.checked_pow(k).and_then(|f| n.checked_add(f))
+            })
             .filter(|&n| n <= MAX_SUBDIVIDED_TRIANGLES);
         if grown.is_none() {
             return Err(SubdivideError::TooMany {
-                name: name.to_owned(),
-                triangles: count,
-                times,
+                name: what.to_owned(),
+                triangles: times.iter().filter(|&&k| k > 0).count(),
+                times: times.iter().copied().max().unwrap_or(0),
             });
         }
-        let (pos, idx) = (self.mesh.positions(), self.mesh.indices());
         let mut positions: Vec<Point> = Vec::with_capacity(pos.len());
         let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(idx.len());
         let mut objects = Vec::with_capacity(self.objects.len());
-        for (k, o) in self.objects.iter().enumerate() {
+        for o in &self.objects {
             let v0 = positions.len() as u32;
             let t0 = triangles.len() as u32;
             let shift = |i: u32| i - o.vertices.start + v0;
             positions.extend_from_slice(&pos[o.vertices.start as usize..o.vertices.end as usize]);
-            let own = idx[o.triangles.start as usize..o.triangles.end as usize]
-                .iter()
-                .map(|t| t.map(shift));
-            if k == target {
-                let mut tris: Vec<[u32; 3]> = own.collect();
-                for _ in 0..times {
-                    tris = split_once(&mut positions, &tris);
+            // Pieces still to split, with how many more times.
+            let mut pending: Vec<([u32; 3], u32)> = Vec::new();
+            for t in o.triangles.clone() {
+                let tri = idx[t as usize].map(shift);
+                match times[t as usize] {
+                    0 => triangles.push(tri),
+                    k => pending.push((tri, k)),
                 }
-                triangles.extend(tris);
-            } else {
-                triangles.extend(own);
+            }
+            let mut midpoints = HashMap::new();
+            while !pending.is_empty() {
+                let mut next = Vec::with_capacity(4 * pending.len());
+                for (tri, k) in pending {
+                    for piece in split_once(&mut positions, &mut midpoints, tri) {
+                        if k > 1 {
+                            next.push((piece, k - 1));
+                        } else {
+                            triangles.push(piece);
+                        }
+                    }
+                }
+                pending = next;
             }
             objects.push(EnvObject {
                 vertices: v0..positions.len() as u32,
@@ -86,31 +145,29 @@ impl Environment {
         let mesh = TriMesh::new(positions, triangles)
             .expect("splitting a valid mesh keeps indices in range and positions finite");
         Ok(Environment {
-            name: format!("{} ({name} split {times}x)", self.name),
+            name: self.name.clone(),
             mesh,
             objects,
         })
     }
 }
 
-/// One four-way midpoint split of `tris`, new midpoints appended to `positions`.
-fn split_once(positions: &mut Vec<Point>, tris: &[[u32; 3]]) -> Vec<[u32; 3]> {
-    let mut midpoints: HashMap<(u32, u32), u32> = HashMap::new();
-    let mut mid = |a: u32, b: u32, positions: &mut Vec<Point>| -> u32 {
+/// One four-way midpoint split of `tri`; midpoints are made once per edge
+/// (`midpoints`, keyed by the edge's vertex pair) and appended to `positions`.
+fn split_once(
+    positions: &mut Vec<Point>,
+    midpoints: &mut HashMap<(u32, u32), u32>,
+    [a, b, c]: [u32; 3],
+) -> [[u32; 3]; 4] {
+    let mut mid = |a: u32, b: u32| -> u32 {
         *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
             let (p, q) = (positions[a as usize], positions[b as usize]);
             positions.push(nalgebra::center(&p, &q));
             (positions.len() - 1) as u32
         })
     };
-    let mut out = Vec::with_capacity(4 * tris.len());
-    for &[a, b, c] in tris {
-        let ab = mid(a, b, positions);
-        let bc = mid(b, c, positions);
-        let ca = mid(c, a, positions);
-        out.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
-    }
-    out
+    let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+    [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]
 }
 
 #[cfg(test)]
@@ -148,6 +205,23 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn big_triangles_split_and_small_ones_kept() {
+        let room = museum(0);
+        let threshold = 0.15;
+        let big = crate::environment::big_triangles(&room.mesh, threshold).len();
+        let split = room.subdivide_big(threshold, 1.0).unwrap();
+        assert!(split.mesh.triangle_count() > room.mesh.triangle_count() + 3 * big);
+        // Every piece of a big triangle is at most 1 m; small triangles are
+        // kept as they were (so none is longer than the threshold or 1 m).
+        let longest = split
+            .mesh
+            .iter_triangles()
+            .map(|(_, t)| t.longest_edge())
+            .fold(0.0f32, f32::max);
+        assert!(longest <= 1.0, "{longest}");
     }
 
     #[test]

@@ -26,9 +26,6 @@ use crate::scenario::{
     Placement, Scenario, ScenarioError, SubdivideObject, load_scenario, resolve, scenario_name,
 };
 
-/// The generated rooms' floor (two big triangles the character walks on).
-const FLOOR: &str = "floor";
-
 /// Which knob a condition turns, away from the base scenario.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -37,8 +34,9 @@ pub enum Factor {
     Base,
     /// Where along the big surface the character walks (`placement.gap.along`).
     Position,
-    /// The gap surface (and, in a second series, the floor too) split
-    /// four-way `times` times (`[environment] subdivide`).
+    /// The gap surface (`[environment] subdivide`), and in a second series
+    /// every big triangle of the room (floor, ceiling, walls, table tops, …),
+    /// split four-way `times` times.
     Tessellation,
     /// The big-triangle threshold.
     Threshold,
@@ -63,11 +61,10 @@ enum Edit {
     None,
     /// A fraction of half the surface's length, from its middle.
     Along(Real),
-    /// The gap surface, and the floor too when `with_floor`.
-    Subdivide {
-        times: u32,
-        with_floor: bool,
-    },
+    /// The gap surface split `times` times.
+    SplitSurface(u32),
+    /// Every big triangle of the room split to pieces of at most this many metres.
+    SplitBig(Real),
     Threshold(Real),
     NoDedup,
     Gap(Real),
@@ -89,19 +86,19 @@ pub fn conditions() -> Vec<Condition> {
             Edit::Along(f),
         ));
     }
-    for with_floor in [false, true] {
-        for times in [2, 4, 6, 8] {
-            let what = if with_floor {
-                "surface and floor"
-            } else {
-                "surface"
-            };
-            out.push(c(
-                Factor::Tessellation,
-                format!("{what} split {times}x"),
-                Edit::Subdivide { times, with_floor },
-            ));
-        }
+    for times in [2, 4, 6, 8] {
+        out.push(c(
+            Factor::Tessellation,
+            format!("surface split {times}x"),
+            Edit::SplitSurface(times),
+        ));
+    }
+    for piece in [2.0, 1.0, 0.5, 0.3] {
+        out.push(c(
+            Factor::Tessellation,
+            format!("every big triangle split to {piece} m"),
+            Edit::SplitBig(piece),
+        ));
     }
     for t in [0.5, 2.0, 8.0] {
         out.push(c(
@@ -152,6 +149,8 @@ pub enum StudyError {
     Scenario(#[from] ScenarioError),
     #[error("{file}: the experiment needs a gap placement (placement.gap) to move along a surface")]
     NotGap { file: PathBuf },
+    #[error("{file}: {message}")]
+    Split { file: PathBuf, message: String },
 }
 
 /// Plays every condition of [`conditions`] on `base` with each of `methods`,
@@ -173,13 +172,22 @@ pub fn run_study(
     let base_dir = base.parent().map(PathBuf::from).unwrap_or_default();
     let name = scenario_name(base);
     let conditions = conditions();
-    let half_length = surface_half_length(&scenario, &base_dir)?;
+    let base_room = inspect_base(&scenario, &base_dir)?;
     let mut rows = Vec::new();
     for (i, condition) in conditions.iter().enumerate() {
         let mut s = scenario.clone();
         s.frames = frames.or(s.frames);
-        apply(&mut s, &condition.edit, &surface, half_length);
-        let resolved = resolve(&s, &base_dir)?;
+        apply(&mut s, &condition.edit, &surface, &base_room);
+        let mut resolved = resolve(&s, &base_dir)?;
+        if let Edit::SplitBig(piece) = condition.edit {
+            resolved.environment = resolved
+                .environment
+                .subdivide_big(resolved.threshold, piece)
+                .map_err(|e| StudyError::Split {
+                    file: base.to_owned(),
+                    message: e.to_string(),
+                })?;
+        }
         let surface_triangles = resolved
             .environment
             .object(&surface)
@@ -248,9 +256,14 @@ pub fn run_study(
     Ok(rows)
 }
 
-/// Half the gap surface's length along the horizontal direction the gap
-/// placement walks (`up × normal`), from the base scenario's room.
-fn surface_half_length(s: &Scenario, base_dir: &Path) -> Result<Real, StudyError> {
+/// What the conditions need to know of the base scenario's room.
+struct BaseRoom {
+    /// Half the gap surface's length along the horizontal direction the gap
+    /// placement moves along (`up × normal`).
+    half_length: Real,
+}
+
+fn inspect_base(s: &Scenario, base_dir: &Path) -> Result<BaseRoom, StudyError> {
     let mut probe = s.clone();
     probe.frames = Some(1);
     let r = resolve(&probe, base_dir)?;
@@ -265,11 +278,11 @@ fn surface_half_length(s: &Scenario, base_dir: &Path) -> Result<Real, StudyError
     } else {
         nalgebra::Vector3::x()
     };
-    let object = r
-        .environment
+    let env = &r.environment;
+    let object = env
         .object(&g.surface)
         .expect("resolve checked the surface exists");
-    let pos = r.environment.mesh.positions();
+    let pos = env.mesh.positions();
     let (lo, hi) = object
         .vertices
         .clone()
@@ -277,30 +290,27 @@ fn surface_half_length(s: &Scenario, base_dir: &Path) -> Result<Real, StudyError
         .fold((Real::INFINITY, Real::NEG_INFINITY), |(lo, hi), a| {
             (lo.min(a), hi.max(a))
         });
-    Ok(0.5 * (hi - lo))
+    Ok(BaseRoom {
+        half_length: 0.5 * (hi - lo),
+    })
 }
 
-fn apply(s: &mut Scenario, edit: &Edit, surface: &str, half_length: Real) {
+fn apply(s: &mut Scenario, edit: &Edit, surface: &str, base: &BaseRoom) {
     match *edit {
         Edit::None => {}
         Edit::Along(f) => {
             if let Placement::Gap(g) = &mut s.placement {
-                g.along = f * half_length;
+                g.along = f * base.half_length;
             }
         }
-        Edit::Subdivide { times, with_floor } => {
-            let mut objects = vec![surface];
-            if with_floor && surface != FLOOR {
-                objects.push(FLOOR);
-            }
-            s.subdivide = objects
-                .into_iter()
-                .map(|object| SubdivideObject {
-                    object: object.to_owned(),
-                    times,
-                })
-                .collect();
+        Edit::SplitSurface(times) => {
+            s.subdivide = vec![SubdivideObject {
+                object: surface.to_owned(),
+                times,
+            }];
         }
+        // Applied to the resolved room (`Environment::subdivide_big`).
+        Edit::SplitBig(_) => {}
         Edit::Threshold(t) => s.threshold = t,
         Edit::NoDedup => s.dedup = false,
         Edit::Gap(m) => {
