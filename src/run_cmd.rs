@@ -263,12 +263,13 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     };
     let mut created: Vec<PathBuf> = Vec::new();
     let mut recorders: Vec<Option<RunRecorder>> = Vec::new();
-    for p in &pipes {
+    let methods = pipes.len();
+    for p in &mut pipes {
         let opened = target
             .open(
                 &name,
                 p.method.name(),
-                pipes.len(),
+                methods,
                 run_blueprint(layout::display_level(&p.character_tree.tree)),
             )
             .inspect_err(|_| discard(&created))?;

@@ -209,3 +209,33 @@ fn same_inputs_same_counters_and_pairs() {
     };
     assert_eq!(run(), run());
 }
+
+/// The visit log a recorder turns on changes nothing that is measured: the
+/// counters (times aside), the leaf pairs and the colliding pairs, for every
+/// method, frame by frame.
+#[test]
+fn the_visit_log_changes_no_counter() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
+    let r = cornertree::scenario::open_scenario(&path).unwrap();
+    let env = &r.environment.mesh;
+    for m in Method::ALL {
+        let mut plain = Pipeline::new(&r.character, env, m, r.pipeline_options());
+        let mut logged = Pipeline::new(&r.character, env, m, r.pipeline_options());
+        logged.set_visit_log(true);
+        let mut b = PoseBuffers::new(&r.character);
+        for k in 0..3 {
+            r.pose_frame(&mut b, k);
+            let mut c0 = plain.detect(&b, &r.character, env);
+            let mut c1 = logged.detect(&b, &r.character, env);
+            c0.time = Default::default();
+            c1.time = Default::default();
+            assert_eq!(c0, c1, "{m} frame {k}");
+            assert!(c0.pairs > 0, "{m} frame {k}: contacts");
+            assert_eq!(plain.leaf_pairs(), logged.leaf_pairs(), "{m} frame {k}");
+            assert_eq!(plain.pairs, logged.pairs, "{m} frame {k}");
+            assert!(plain.visit_log().is_none());
+            let log = logged.visit_log().unwrap();
+            assert_eq!(log.sphere_tests(), c1.sphere_sphere, "{m} frame {k}");
+        }
+    }
+}
