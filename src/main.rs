@@ -131,6 +131,11 @@ struct InspectArgs {
     /// from scratch on every N-th frame; 0 picks about ten frames over the clip.
     #[arg(long, default_value_t = 0, requires = "animate")]
     sample_every: usize,
+    /// Place the character at this translation (metres) on every frame, e.g.
+    /// 10000,0,0 to check refit 10 km from the origin.
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", requires = "animate",
+          allow_hyphen_values = true, value_parser = parse_offset)]
+    offset: [f32; 3],
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -155,6 +160,29 @@ fn parse_positive(s: &str) -> Result<f32, String> {
     } else {
         Err("must be a positive number".into())
     }
+}
+
+/// Three finite numbers separated by commas.
+fn parse_offset(s: &str) -> Result<[f32; 3], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "expected three numbers X,Y,Z separated by commas, got {} value(s)",
+            parts.len()
+        ));
+    }
+    let mut out = [0.0f32; 3];
+    for (o, (p, axis)) in out.iter_mut().zip(parts.iter().zip(["X", "Y", "Z"])) {
+        let x: f32 = p
+            .trim()
+            .parse()
+            .map_err(|e| format!("{axis} = {:?}: {e}", p.trim()))?;
+        if !x.is_finite() {
+            return Err(format!("{axis} = {:?} is not a finite number", p.trim()));
+        }
+        *o = x;
+    }
+    Ok(out)
 }
 
 fn load(source: &CharacterSource) -> anyhow::Result<Character> {
@@ -236,6 +264,7 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
             dedup: options.dedup,
             build: options.build,
             sample_every: args.sample_every,
+            offset: args.offset,
             ..AnimateOptions::default()
         };
         let refit = animate(character, &opts).with_context(|| name.clone())?;
@@ -316,6 +345,12 @@ fn refit_text(c: &Character, r: &RefitReport) -> String {
         s,
         "  refit: clip {:?}, {:?} skinning, {} frames at {} fps, {} nodes",
         r.clip, r.model, r.frames, r.fps, r.nodes
+    );
+    let [x, y, z] = r.offset;
+    let _ = writeln!(
+        s,
+        "    placed at            ({x}, {y}, {z}) m; rounding margin {:.3e} per unit of joint reach",
+        r.rounding_coefficient
     );
     let _ = writeln!(
         s,

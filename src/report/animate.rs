@@ -1,8 +1,13 @@
 //! `cornertree inspect --animate`: play a clip, refit the character's spheres
 //! every frame, and measure containment, tightness and cost.
 //!
+//! The character can be placed at a translation (`offset`): posing then goes
+//! through [`PoseBuffers::place`], as in the run loop, so refit and skinning
+//! see the large translations of a character far from the origin.
+//!
 //! - **Containment**: every deformed vertex of every node's triangles must lie
-//!   in that node's refit sphere (tolerance `1e-5 × model size`).
+//!   in that node's refit sphere (tolerance `tolerance_rel × model size`, 0 by
+//!   default: refit accounts for `f32` rounding itself).
 //! - **Tightness**: refit radius over the radius of the minimal sphere (Welzl)
 //!   of the same deformed vertices, per node; mean and maximum.
 //! - **Cost per frame**: skinning; full refit of every node; on-demand refit,
@@ -12,6 +17,8 @@
 use std::time::Instant;
 
 use serde::Serialize;
+
+use nalgebra::{Matrix4, Vector3};
 
 use crate::character::{Character, PoseBuffers, SkinningModel, UnknownClip};
 use crate::geometry::Point;
@@ -37,6 +44,8 @@ pub struct AnimateOptions {
     pub sample_every: usize,
     /// Containment tolerance as a fraction of the model size.
     pub tolerance_rel: f64,
+    /// Translation the character is placed at (metres), every frame.
+    pub offset: [f32; 3],
 }
 
 impl Default for AnimateOptions {
@@ -48,7 +57,8 @@ impl Default for AnimateOptions {
             dedup: true,
             build: BuildParams::default(),
             sample_every: 0,
-            tolerance_rel: 1e-5,
+            tolerance_rel: 0.0,
+            offset: [0.0; 3],
         }
     }
 }
@@ -61,6 +71,11 @@ pub struct RefitReport {
     pub frames: usize,
     pub fps: f32,
     pub nodes: usize,
+    /// Translation the character was placed at (metres).
+    pub offset: [f32; 3],
+    /// `κ`: the refit's rounding margin per unit of `ρ` (the node's joints'
+    /// `‖A‖·(‖c‖ + r) + ‖t‖`); see `sphere_tree::refit`.
+    pub rounding_coefficient: f64,
     /// Vertex-in-sphere checks made.
     pub checks: u64,
     /// Deformed vertices found outside a refit sphere that should hold them.
@@ -97,7 +112,8 @@ pub fn animate(
     let sets = VertexSets::new(&ct.tree, &character.mesh);
     let size = character.mesh.size() as f64;
     let tolerance = options.tolerance_rel * size;
-    let base = *character.skeleton.base();
+    let offset = Vector3::from(options.offset);
+    let placement = Matrix4::new_translation(&offset);
 
     let mut buffers = PoseBuffers::new(character);
     let mut state = RefitState::new(&ct, character.skeleton.len());
@@ -106,6 +122,7 @@ pub fn animate(
 
     // Floor under the first frame's pose.
     buffers.pose(character, Some(clip), clip.start());
+    buffers.place(&placement);
     buffers.skin_all(character, options.model);
     let mut floor = floor_under(&buffers.positions, size as f32);
 
@@ -120,6 +137,8 @@ pub fn animate(
         frames,
         fps: options.fps,
         nodes: ct.tree.len(),
+        offset: options.offset,
+        rounding_coefficient: ct.refit.rounding_coefficient(),
         checks: 0,
         violations: 0,
         tolerance,
@@ -140,11 +159,13 @@ pub fn animate(
         let t = clip.start() + k as f32 / options.fps;
         let t0 = Instant::now();
         buffers.pose(character, Some(clip), t);
+        buffers.place(&placement);
         buffers.skin_all(character, options.model);
         r.skinning_ms_per_frame += ms(t0);
 
+        let base = buffers.base;
         let t0 = Instant::now();
-        state.begin_frame(&character.skeleton, &buffers.skin);
+        state.begin_frame_with_base(&buffers.skin, &base);
         Refitter {
             tree: &ct,
             skin: &buffers.skin,
@@ -154,7 +175,7 @@ pub fn animate(
         r.full_refit_ms_per_frame += ms(t0);
 
         let t0 = Instant::now();
-        lazy.begin_frame(&character.skeleton, &buffers.skin);
+        lazy.begin_frame_with_base(&buffers.skin, &base);
         let mut od = OnDemand {
             refitter: Refitter {
                 tree: &ct,
@@ -180,8 +201,15 @@ pub fn animate(
             drop(rebuilt);
             r.sampled_frames += 1;
             for (i, s) in state.spheres.iter().enumerate() {
+                // Minimal spheres near the origin: subtracting the offset is
+                // exact where it dominates, and Welzl's f32 centre then rounds
+                // by the model's ulps, not the offset's.
                 scratch.clear();
-                scratch.extend(sets.of(i).iter().map(|&v| buffers.positions[v as usize]));
+                scratch.extend(
+                    sets.of(i)
+                        .iter()
+                        .map(|&v| buffers.positions[v as usize] - offset),
+                );
                 let tight = points_sphere(&scratch).radius as f64;
                 if tight > 1e-9 * size {
                     let ratio = s.radius as f64 / tight;
