@@ -340,3 +340,40 @@ fn closed_stdout_is_not_a_panic() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.contains("panicked"), "{err}");
 }
+
+#[test]
+fn damaged_glb_fails_inspect_in_one_line() {
+    // A NaN keyframe: the crash of `inspect --animate`.
+    let mut glb = common::glb::Glb::parse(std::fs::read(asset("CesiumMan.glb")).unwrap());
+    let output = glb.channel_output(0, 0);
+    glb.set_float(output, 5, 0, f32::NAN);
+    let path = scratch("nan-keyframe.glb");
+    std::fs::write(&path, &glb.bytes).unwrap();
+    let out = bin()
+        .arg("inspect")
+        .arg(&path)
+        .arg("--animate")
+        .output()
+        .unwrap();
+    assert_clean_failure(
+        &out,
+        "nan-keyframe.glb",
+        &[
+            "animation 0 channel 0",
+            &format!("output accessor {output}"),
+            "element 5, component 0 is NaN",
+        ],
+    );
+    // A truncated download.
+    let bytes = std::fs::read(asset("CesiumMan.glb")).unwrap();
+    let path = scratch("cut.glb");
+    std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+    for animate in [false, true] {
+        let mut cmd = bin();
+        cmd.arg("inspect").arg(&path);
+        if animate {
+            cmd.arg("--animate");
+        }
+        assert_clean_failure(&cmd.output().unwrap(), "cut.glb", &["not a glTF 2.0 file"]);
+    }
+}

@@ -13,6 +13,12 @@
 //! - **Cost per frame**: skinning; full refit of every node; on-demand refit,
 //!   i.e. the nodes a traversal against a finely tessellated floor under the
 //!   character reaches; and a rebuild of the tree from scratch.
+//!
+//! Finite keyframes can still pose a character out of range (a chain of
+//! large scales): every frame's skinning matrices must be finite and its
+//! skinned vertices within the loaders' [`MAX_COORDINATE`] before they are
+//! used, and a clip that would need more than [`AnimateOptions::max_frames`]
+//! frames is refused before the first one.
 
 use std::time::Instant;
 
@@ -20,9 +26,10 @@ use serde::Serialize;
 
 use nalgebra::{Matrix4, Vector3};
 
-use crate::character::{Character, PoseBuffers, SkinningModel, UnknownClip};
+use crate::character::{Character, Clip, PoseBuffers, SkinningModel, UnknownClip};
 use crate::geometry::Point;
 use crate::geometry::enclosing::points_sphere;
+use crate::io::limits::MAX_COORDINATE;
 use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::containment::VertexSets;
@@ -46,6 +53,32 @@ pub struct AnimateOptions {
     pub tolerance_rel: f64,
     /// Translation the character is placed at (metres), every frame.
     pub offset: [f32; 3],
+    /// Most frames a clip may need at `fps`; longer clips are refused.
+    pub max_frames: usize,
+}
+
+/// Why a clip cannot be played.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum AnimateError {
+    #[error(transparent)]
+    UnknownClip(#[from] UnknownClip),
+    #[error(
+        "clip {clip:?} lasts {duration} s: at {fps} fps that is more than the {max} frames allowed (AnimateOptions::max_frames)"
+    )]
+    TooManyFrames {
+        clip: String,
+        duration: f32,
+        fps: f32,
+        max: usize,
+    },
+    #[error(
+        "clip {clip:?} at t = {time} s: {what}; the joint transforms take the character out of range"
+    )]
+    PoseOutOfRange {
+        clip: String,
+        time: f32,
+        what: String,
+    },
 }
 
 impl Default for AnimateOptions {
@@ -59,6 +92,7 @@ impl Default for AnimateOptions {
             sample_every: 0,
             tolerance_rel: 0.0,
             offset: [0.0; 3],
+            max_frames: 1_000_000,
         }
     }
 }
@@ -101,8 +135,20 @@ pub struct RefitReport {
 pub fn animate(
     character: &Character,
     options: &AnimateOptions,
-) -> Result<RefitReport, UnknownClip> {
+) -> Result<RefitReport, AnimateError> {
     let clip = character.clip(options.clip.as_deref())?;
+    let frames = (f64::from(clip.duration()) * f64::from(options.fps)).floor() + 1.0;
+    // Not `>`: a NaN count (from a NaN fps) is refused too.
+    let fits = frames <= options.max_frames as f64;
+    if !fits {
+        return Err(AnimateError::TooManyFrames {
+            clip: clip.name.clone(),
+            duration: clip.duration(),
+            fps: options.fps,
+            max: options.max_frames,
+        });
+    }
+    let frames = frames as usize;
     let dedup = if options.dedup {
         dedup_edges(&character.mesh)
     } else {
@@ -124,9 +170,9 @@ pub fn animate(
     buffers.pose(character, Some(clip), clip.start());
     buffers.place(&placement);
     buffers.skin_all(character, options.model);
+    check_pose(clip, clip.start(), &buffers)?;
     let mut floor = floor_under(&buffers.positions, size as f32);
 
-    let frames = (clip.duration() * options.fps).floor() as usize + 1;
     let every = match options.sample_every {
         0 => frames.div_ceil(10).max(1),
         n => n,
@@ -162,6 +208,7 @@ pub fn animate(
         buffers.place(&placement);
         buffers.skin_all(character, options.model);
         r.skinning_ms_per_frame += ms(t0);
+        check_pose(clip, t, &buffers)?;
 
         let base = buffers.base;
         let t0 = Instant::now();
@@ -234,6 +281,46 @@ pub fn animate(
     Ok(r)
 }
 
+/// Every skinning matrix finite and every skinned vertex within
+/// [`MAX_COORDINATE`], the range the loaders accept for positions.
+fn check_pose(clip: &Clip, time: f32, buffers: &PoseBuffers) -> Result<(), AnimateError> {
+    let fail = |what: String| AnimateError::PoseOutOfRange {
+        clip: clip.name.clone(),
+        time,
+        what,
+    };
+    if let Some(j) = buffers
+        .skin
+        .iter()
+        .position(|m| !m.iter().all(|c| c.is_finite()))
+    {
+        return Err(fail(format!(
+            "the skinning matrix of joint {j} is not finite"
+        )));
+    }
+    if let Some((v, p)) = buffers
+        .positions
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !p.iter().all(|c| c.abs() <= MAX_COORDINATE))
+    {
+        return Err(fail(format!(
+            "skinned vertex {v} is at ({}, {}, {}), beyond {MAX_COORDINATE:e} in magnitude",
+            p.x, p.y, p.z
+        )));
+    }
+    Ok(())
+}
+
+fn bounds(positions: &[Point]) -> (Point, Point) {
+    let (mut lo, mut hi) = (positions[0], positions[0]);
+    for p in positions {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    (lo, hi)
+}
+
 fn ms(t0: Instant) -> f64 {
     t0.elapsed().as_secs_f64() * 1e3
 }
@@ -241,11 +328,7 @@ fn ms(t0: Instant) -> f64 {
 /// A square grid floor (Y up) just under the lowest vertex, twice the
 /// character's footprint, in cells of about 2% of the model size.
 fn floor_under(positions: &[Point], size: f32) -> SphereTree {
-    let (mut lo, mut hi) = (positions[0], positions[0]);
-    for p in positions {
-        lo = lo.inf(p);
-        hi = hi.sup(p);
-    }
+    let (lo, hi) = bounds(positions);
     let cx = 0.5 * (lo.x + hi.x);
     let cz = 0.5 * (lo.z + hi.z);
     let half = (hi.x - lo.x).max(hi.z - lo.z).max(1e-3 * size);

@@ -1,6 +1,7 @@
 //! Generated test meshes shared by integration tests.
 #![allow(dead_code)]
 
+pub mod glb;
 pub mod rrd;
 
 use std::path::PathBuf;
