@@ -26,8 +26,9 @@
 //!
 //! Every [`LoadError`] message is one line naming the file and the problem.
 //! Malformed content is an error, never a panic: offsets, counts, strides and
-//! node links are checked before use; positions and every node transform on
-//! the way to a mesh must be finite; the file, its buffers and every decoded
+//! node links are checked before use; every node transform on the way to a
+//! mesh must be finite, and positions, stored and placed, finite and within
+//! [`MAX_COORDINATE`]; the file, its JSON, its buffers and every decoded
 //! accessor are charged to a byte budget ([`LoadLimits`]) before they are
 //! allocated. [`load_static_mesh_from`] loads from bytes already in memory.
 

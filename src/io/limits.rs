@@ -61,23 +61,20 @@ impl Budget {
                 Ok(())
             }
             _ => Err(format!(
-                "{what}: {} would take the load to {} MiB, over its budget of {} MiB (LoadLimits::max_bytes)",
+                "{what}: {} would take the load to {} bytes, over its budget of {} bytes (LoadLimits::max_bytes)",
                 if size == 1 {
                     format!("{count} bytes")
                 } else {
                     format!("{count} × {size} bytes")
                 },
                 bytes
-                    .map(|b| mib(b.saturating_add(self.used.get())))
-                    .unwrap_or_else(|| "more than 2^64 / 2^20".into()),
-                mib(self.max)
+                    .and_then(|b| b.checked_add(self.used.get()))
+                    .map(|total| total.to_string())
+                    .unwrap_or_else(|| "more than 2^64".into()),
+                self.max
             )),
         }
     }
-}
-
-fn mib(bytes: usize) -> String {
-    format!("{:.1}", bytes as f64 / (1u64 << 20) as f64)
 }
 
 #[cfg(test)]
@@ -93,7 +90,10 @@ mod tests {
         assert!(e.starts_with("c: 1 bytes would take"), "{e}");
         let e = b.charge("f", 3, 4).unwrap_err();
         assert!(e.starts_with("f: 3 × 4 bytes would take"), "{e}");
-        assert!(e.contains("budget of 0.0 MiB"), "{e}");
+        assert_eq!(
+            e,
+            "f: 3 × 4 bytes would take the load to 112 bytes, over its budget of 100 bytes (LoadLimits::max_bytes)"
+        );
         assert!(b.charge("d", usize::MAX, 2).unwrap_err().contains("2^64"));
         assert!(b.charge("e", 0, 1).is_ok());
     }

@@ -1,6 +1,7 @@
 //! Running one case through a loader and judging the outcome: no panic, a
-//! one-line error naming the file, bounded memory and time; for characters
-//! that load, a few frames of `inspect --animate` too.
+//! one-line error naming the file, bounded memory and time; what loads is
+//! inspected as `cornertree inspect` does (sphere tree built and validated)
+//! and a character plays a few frames of `inspect --animate` too.
 
 use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -12,7 +13,9 @@ use std::time::{Duration, Instant};
 
 use cornertree::character::SkinningModel;
 use cornertree::io::{LoadError, LoadLimits, load_character_from, load_static_mesh_from};
+use cornertree::mesh::TriMesh;
 use cornertree::report::animate::{AnimateOptions, animate};
+use cornertree::report::inspect::{InspectOptions, inspect_mesh};
 
 use super::alloc::{CURRENT, PEAK};
 use super::mutate::{Files, file_names};
@@ -130,14 +133,37 @@ pub fn run_case(
     (outcome, cost)
 }
 
+/// `cornertree inspect` on a mesh that loaded: `Some` refusal if the tree
+/// fails validation (what the command would print, checked to be one line).
+fn inspect(path: &Path, mesh: &TriMesh) -> Result<Option<Outcome>, String> {
+    let name = path.display().to_string();
+    match inspect_mesh(&name, mesh, InspectOptions::default()) {
+        Ok(_) => Ok(None),
+        Err(e) => {
+            let message = format!("{name}: sphere tree failed validation: {e}");
+            one_line(&message)?;
+            Ok(Some(Outcome::Refused(format!(
+                "inspect: tree failed validation: {}",
+                head(&e.to_string())
+            ))))
+        }
+    }
+}
+
 fn run(loader: Loader, path: &Path, bytes: &[u8], paper: bool) -> Result<Outcome, String> {
     match loader {
         Loader::Static => match load_static_mesh_from(path, bytes, &LIMITS) {
-            Ok(_) => Ok(Outcome::Loaded { animated: false }),
+            Ok((mesh, _)) => match inspect(path, &mesh)? {
+                Some(refused) => Ok(refused),
+                None => Ok(Outcome::Loaded { animated: false }),
+            },
             Err(e) => judge_error(path, &e),
         },
         Loader::Character => match load_character_from(path, bytes, &LIMITS) {
             Ok((character, _)) => {
+                if let Some(refused) = inspect(path, &character.mesh)? {
+                    return Ok(refused);
+                }
                 let Some(clip) = character.clips.first() else {
                     return Ok(Outcome::Loaded { animated: false });
                 };

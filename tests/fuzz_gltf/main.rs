@@ -1,8 +1,9 @@
 //! Mutation fuzzing of the glTF loaders (issue #15): damaged copies of the
 //! shipped characters and of a small generated one go through the static and
 //! the character loader from memory; each must load or give a one-line error
-//! naming the file, without panicking, within a memory and a time limit; a
-//! character that loads also plays a few frames of `inspect --animate`.
+//! naming the file, without panicking, within a memory and a time limit; what
+//! loads is inspected (sphere tree built and validated), and a character also
+//! plays a few frames of `inspect --animate`.
 //! proptest generates the mutations (`mutate.rs`) and runs the cases.
 //!
 //! | file | what |
@@ -38,12 +39,13 @@ use seeds::Kind;
 #[global_allocator]
 static GLOBAL: alloc::Tracking = alloc::Tracking;
 
-/// Seed weights: small GLB, small `.gltf`, CesiumMan, BrainStem (the large
-/// one is slow to load, so picked least).
+/// Seed weights of long runs: small GLB, small `.gltf`, CesiumMan, BrainStem
+/// (the large one takes 20 times longer, so it is picked least).
 const WEIGHTS: [u32; 4] = [4, 3, 3, 1];
 
-/// Cases per loader in `cargo test`.
-const SHORT_CASES: u32 = 1_500;
+/// Seed weights and cases per loader in `cargo test` (about 30 s).
+const SHORT_WEIGHTS: [u32; 4] = [5, 4, 4, 1];
+const SHORT_CASES: u32 = 1_000;
 
 #[derive(Default)]
 struct Stats {
@@ -91,7 +93,7 @@ fn scratch(loader: Loader) -> std::path::PathBuf {
 
 /// Runs `cases` mutated inputs through `loader`; panics with the failing
 /// input (also saved under `tests/fuzz-regressions/`) if one fails.
-fn fuzz(loader: Loader, cases: u32, rng_seed: u64) {
+fn fuzz(loader: Loader, cases: u32, rng_seed: u64, weights: &[u32; 4]) {
     check::start_watchdog();
     let seeds = seeds::all();
     let dir = scratch(loader);
@@ -105,12 +107,20 @@ fn fuzz(loader: Loader, cases: u32, rng_seed: u64) {
     };
     let mut runner = TestRunner::new(config);
     let start = Instant::now();
-    let result = runner.run(&mutate::input(&WEIGHTS), |input| {
+    let result = runner.run(&mutate::input(weights), |input| {
         let seed = &seeds[input.seed];
         let files = mutate::apply(seed, &input);
         let (outcome, cost) = run_case(loader, seed.kind, &files, &dir, input.paper);
         let mut s = stats.borrow_mut();
         s.cases += 1;
+        if s.cases % 10_000 == 0 {
+            eprintln!(
+                "fuzz_gltf {}: {} cases, {:.0} s",
+                loader.name(),
+                s.cases,
+                start.elapsed().as_secs_f64()
+            );
+        }
         s.per_seed[input.seed] += 1;
         s.peak = s.peak.max(cost.peak);
         s.slowest = s.slowest.max(cost.time);
@@ -170,18 +180,33 @@ fn long_seed() -> u64 {
 
 #[test]
 fn fuzz_static_loader_short() {
-    fuzz(Loader::Static, env_or("FUZZ_CASES", SHORT_CASES), 15);
+    fuzz(
+        Loader::Static,
+        env_or("FUZZ_CASES", SHORT_CASES),
+        15,
+        &SHORT_WEIGHTS,
+    );
 }
 
 #[test]
 fn fuzz_character_loader_short() {
-    fuzz(Loader::Character, env_or("FUZZ_CASES", SHORT_CASES), 16);
+    fuzz(
+        Loader::Character,
+        env_or("FUZZ_CASES", SHORT_CASES),
+        16,
+        &SHORT_WEIGHTS,
+    );
 }
 
 #[test]
 #[ignore = "long run: FUZZ_CASES (default 100000) inputs"]
 fn fuzz_static_loader_long() {
-    fuzz(Loader::Static, env_or("FUZZ_CASES", 100_000), long_seed());
+    fuzz(
+        Loader::Static,
+        env_or("FUZZ_CASES", 100_000),
+        long_seed(),
+        &WEIGHTS,
+    );
 }
 
 #[test]
@@ -191,6 +216,7 @@ fn fuzz_character_loader_long() {
         Loader::Character,
         env_or("FUZZ_CASES", 100_000),
         long_seed(),
+        &WEIGHTS,
     );
 }
 
