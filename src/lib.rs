@@ -17,6 +17,7 @@
 //! | [`record`] | Rerun recordings of runs and of the paper's figures | §3–6, Figs. 1–3 |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
 //! | [`scenario`] | scenario files (TOML): character, clip, room, placement (start, path, gap to a surface), methods | §6 |
+//! | [`study`] | experiments that vary one condition at a time (where the plane-sphere method reaches the paper's counts) | §5–6 |
 //! | [`truth`] | ground truth from parry3d (BVH leaf pairs, triangle-triangle test); disagreements classified; precision and recall | (reference) |
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
@@ -32,4 +33,5 @@ pub mod record;
 pub mod report;
 pub mod scenario;
 pub mod sphere_tree;
+pub mod study;
 pub mod truth;

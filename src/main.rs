@@ -6,6 +6,7 @@ mod bench_cmd;
 mod kernels_cmd;
 mod run_cmd;
 mod scaling_cmd;
+mod study_cmd;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
@@ -69,6 +70,15 @@ enum Command {
     /// test. Timings are only meaningful in a release build
     /// (`cargo run --release -- kernels`).
     Kernels(kernels_cmd::KernelsArgs),
+    /// The experiment behind docs/results.md: when does the plane-sphere
+    /// method read as §5 writes it (Algorithm 1 where a character leaf meets
+    /// a corner-tree leaf) need as few tests as Tables 2-3 report? Plays each
+    /// base scenario with one condition changed at a time: where the
+    /// character walks along the big surface, how the surface is tessellated,
+    /// the big-triangle threshold, edge de-duplication, the gap; prints the
+    /// maximum tests and operations per frame and the largest corner-tree
+    /// leaf a character leaf met, beside the paper's figures.
+    PlaneSphereStudy(study_cmd::StudyArgs),
 }
 
 #[derive(clap::Args)]
@@ -131,6 +141,11 @@ struct InspectArgs {
     /// from scratch on every N-th frame; 0 picks about ten frames over the clip.
     #[arg(long, default_value_t = 0, requires = "animate")]
     sample_every: usize,
+    /// Place the character at this translation (metres) on every frame, e.g.
+    /// 10000,0,0 to check refit 10 km from the origin.
+    #[arg(long, value_name = "X,Y,Z", default_value = "0,0,0", requires = "animate",
+          allow_hyphen_values = true, value_parser = parse_offset)]
+    offset: [f32; 3],
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -155,6 +170,29 @@ fn parse_positive(s: &str) -> Result<f32, String> {
     } else {
         Err("must be a positive number".into())
     }
+}
+
+/// Three finite numbers separated by commas.
+fn parse_offset(s: &str) -> Result<[f32; 3], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    if parts.len() != 3 {
+        return Err(format!(
+            "expected three numbers X,Y,Z separated by commas, got {} value(s)",
+            parts.len()
+        ));
+    }
+    let mut out = [0.0f32; 3];
+    for (o, (p, axis)) in out.iter_mut().zip(parts.iter().zip(["X", "Y", "Z"])) {
+        let x: f32 = p
+            .trim()
+            .parse()
+            .map_err(|e| format!("{axis} = {:?}: {e}", p.trim()))?;
+        if !x.is_finite() {
+            return Err(format!("{axis} = {:?} is not a finite number", p.trim()));
+        }
+        *o = x;
+    }
+    Ok(out)
 }
 
 fn load(source: &CharacterSource) -> anyhow::Result<Character> {
@@ -236,6 +274,7 @@ fn inspect(args: InspectArgs) -> anyhow::Result<()> {
             dedup: options.dedup,
             build: options.build,
             sample_every: args.sample_every,
+            offset: args.offset,
             ..AnimateOptions::default()
         };
         let refit = animate(character, &opts).with_context(|| name.clone())?;
@@ -317,6 +356,12 @@ fn refit_text(c: &Character, r: &RefitReport) -> String {
         "  refit: clip {:?}, {:?} skinning, {} frames at {} fps, {} nodes",
         r.clip, r.model, r.frames, r.fps, r.nodes
     );
+    let [x, y, z] = r.offset;
+    let _ = writeln!(
+        s,
+        "    placed at            ({x}, {y}, {z}) m; rounding margin {:.3e} per unit of joint reach",
+        r.rounding_coefficient
+    );
     let _ = writeln!(
         s,
         "    containment          {} violations in {} checks (tolerance {:.3e}, worst excess {:.3e})",
@@ -391,6 +436,7 @@ fn main() -> ExitCode {
         Command::Scaling(args) => scaling_cmd::scaling(args).and_then(|out| emit(&out)),
         Command::Compare(args) => run_cmd::compare(args).and_then(|out| emit(&out)),
         Command::Kernels(args) => kernels_cmd::kernels(args).and_then(|out| emit(&out)),
+        Command::PlaneSphereStudy(args) => study_cmd::study(args).and_then(|out| emit(&out)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use clap::parser::ValueSource;
-use cornertree::character::PoseBuffers;
+use cornertree::character::{PoseBuffers, SkinningModel};
 use cornertree::pipeline::driver::Pipeline;
 use cornertree::pipeline::{LeafTest, Method};
 use cornertree::record::blueprint::run_blueprint;
@@ -17,7 +17,7 @@ use cornertree::record::target::RecordingTarget;
 use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
 use cornertree::report::run::TruthRecord;
 use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable};
-use cornertree::scenario::{Resolved, open_scenario, scenario_name};
+use cornertree::scenario::{Resolved, open_scenario_with, scenario_name};
 use cornertree::truth::{FrameTruth, MethodContext};
 
 #[derive(clap::Args)]
@@ -38,6 +38,10 @@ pub struct RunArgs {
     /// Turn edge de-duplication off, whatever the scenario says.
     #[arg(long)]
     pub no_dedup: bool,
+    /// Skinning model, whatever the scenario says: `paper` (§3's one-joint
+    /// model) or `linear` (glTF linear blend skinning).
+    #[arg(long, value_enum)]
+    pub skinning: Option<SkinningModel>,
     /// Skip the ground truth (exact pairs on parry's broad phase, and parry's
     /// own answer) and the accuracy columns; faster on big scenes.
     #[arg(long)]
@@ -133,6 +137,10 @@ pub struct CompareArgs {
     /// Turn edge de-duplication off, whatever the scenario says.
     #[arg(long)]
     pub no_dedup: bool,
+    /// Skinning model, whatever the scenario says: `paper` (§3's one-joint
+    /// model) or `linear` (glTF linear blend skinning).
+    #[arg(long, value_enum)]
+    pub skinning: Option<SkinningModel>,
 }
 
 /// How the summary table is printed.
@@ -154,6 +162,7 @@ pub fn compare(args: CompareArgs) -> anyhow::Result<String> {
         frames: args.frames,
         json: args.json,
         no_dedup: args.no_dedup,
+        skinning: args.skinning,
         no_truth: false,
         dump_frame: None,
         no_record: true,
@@ -175,7 +184,11 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     let started = std::time::Instant::now();
     // Everything that can be wrong with the input fails here, before any file
     // is created.
-    let mut resolved = open_scenario(&args.scenario)?;
+    let mut resolved = open_scenario_with(&args.scenario, |s| {
+        if let Some(model) = args.skinning {
+            s.character.skinning = model;
+        }
+    })?;
     if !args.methods.is_empty() {
         resolved.methods = args.methods.clone();
     }
@@ -250,12 +263,13 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     };
     let mut created: Vec<PathBuf> = Vec::new();
     let mut recorders: Vec<Option<RunRecorder>> = Vec::new();
-    for p in &pipes {
+    let methods = pipes.len();
+    for p in &mut pipes {
         let opened = target
             .open(
                 &name,
                 p.method.name(),
-                pipes.len(),
+                methods,
                 run_blueprint(layout::display_level(&p.character_tree.tree)),
             )
             .inspect_err(|_| discard(&created))?;

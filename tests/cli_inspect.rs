@@ -208,6 +208,95 @@ fn animate_reports_refit_keys() {
     );
 }
 
+/// `inspect --animate --json` with extra arguments; the `refit` object.
+fn animate_json(name: &str, args: &[&str]) -> serde_json::Value {
+    let out = bin()
+        .arg("inspect")
+        .arg(asset(name))
+        .args(["--animate", "--json"])
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    v["refit"].clone()
+}
+
+/// 10 km from the origin, where an f32 ulp is about a millimetre, refit
+/// spheres still hold every skinned vertex, with no tolerance at all (the
+/// same check as at the origin).
+#[test]
+fn animate_far_from_origin_keeps_every_vertex_inside() {
+    let runs: [(&str, &str, &[&str]); 3] = [
+        ("CesiumMan.glb", "linear", &["--fps", "10"]),
+        ("CesiumMan.glb", "paper", &["--fps", "10"]),
+        // 34k vertices: a few frames, tightness on the first only.
+        (
+            "BrainStem.glb",
+            "linear",
+            &["--fps", "2", "--sample-every", "1000000"],
+        ),
+    ];
+    for (name, skinning, extra) in runs {
+        let mut args = vec!["--offset", "10000,0,0", "--skinning", skinning];
+        args.extend_from_slice(extra);
+        let r = animate_json(name, &args);
+        assert_eq!(
+            r["offset"],
+            serde_json::json!([10000.0, 0.0, 0.0]),
+            "{name}"
+        );
+        assert!(r["checks"].as_u64().unwrap() > 0, "{name}");
+        assert_eq!(r["tolerance"], 0.0, "{name} {skinning}");
+        assert_eq!(
+            r["violations"], 0,
+            "{name} {skinning}: worst excess {}",
+            r["worst_excess"]
+        );
+    }
+}
+
+#[test]
+fn bad_offsets_are_rejected_by_the_parser() {
+    for bad in [
+        "1,2", "1,2,3,4", "1,x,3", "nan,0,0", "0,inf,0", "1e39,0,0", "",
+    ] {
+        let out = bin()
+            .arg("inspect")
+            .arg(asset("CesiumMan.glb"))
+            .args(["--animate", "--json"])
+            .arg(format!("--offset={bad}"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{bad:?}: {err}");
+        assert!(!err.contains("panicked"), "{bad:?}: {err}");
+        let first = err.lines().next().unwrap_or("");
+        assert!(
+            first.contains("--offset") && first.contains("invalid value"),
+            "{bad:?}: {err}"
+        );
+    }
+    // A negative offset needs no `=`.
+    let r = animate_json(
+        "CesiumMan.glb",
+        &[
+            "--offset",
+            "-3.5,0,2",
+            "--fps",
+            "2",
+            "--sample-every",
+            "1000000",
+        ],
+    );
+    assert_eq!(r["offset"], serde_json::json!([-3.5, 0.0, 2.0]));
+    assert_eq!(r["violations"], 0);
+}
+
 #[test]
 fn unknown_clip_lists_the_clips() {
     let out = bin()
@@ -250,4 +339,41 @@ fn closed_stdout_is_not_a_panic() {
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn damaged_glb_fails_inspect_in_one_line() {
+    // A NaN keyframe: the crash of `inspect --animate`.
+    let mut glb = common::glb::Glb::parse(std::fs::read(asset("CesiumMan.glb")).unwrap());
+    let output = glb.channel_output(0, 0);
+    glb.set_float(output, 5, 0, f32::NAN);
+    let path = scratch("nan-keyframe.glb");
+    std::fs::write(&path, &glb.bytes).unwrap();
+    let out = bin()
+        .arg("inspect")
+        .arg(&path)
+        .arg("--animate")
+        .output()
+        .unwrap();
+    assert_clean_failure(
+        &out,
+        "nan-keyframe.glb",
+        &[
+            "animation 0 channel 0",
+            &format!("output accessor {output}"),
+            "element 5, component 0 is NaN",
+        ],
+    );
+    // A truncated download.
+    let bytes = std::fs::read(asset("CesiumMan.glb")).unwrap();
+    let path = scratch("cut.glb");
+    std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+    for animate in [false, true] {
+        let mut cmd = bin();
+        cmd.arg("inspect").arg(&path);
+        if animate {
+            cmd.arg("--animate");
+        }
+        assert_clean_failure(&cmd.output().unwrap(), "cut.glb", &["not a glTF 2.0 file"]);
+    }
 }

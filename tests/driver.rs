@@ -68,6 +68,7 @@ fn options(dedup: bool, skinning: SkinningModel) -> PipelineOptions {
 fn every_method_against_brute_force() {
     let mut contacts = 0;
     let mut skinned_all = 0;
+    let mut leaf_plane_tests = 0;
     for seed in 0..4u64 {
         let character = common::random_character(seed, 6, 300);
         let env = environment(seed);
@@ -126,26 +127,55 @@ fn every_method_against_brute_force() {
                     if m == Method::Original {
                         assert_eq!(c.plane_sphere, 0);
                     }
+                    // The paper's reading: every plane-sphere test pairs a
+                    // character leaf with a big triangle's division leaf, one
+                    // test per such leaf pair, none on the way down.
+                    if m.big_leaf_test() == LeafTest::PlaneSphere && !m.prunes_at_plane() {
+                        let ctree = &p.character_tree.tree;
+                        let at_division: Vec<_> = p
+                            .leaf_pairs()
+                            .iter()
+                            .filter(|lp| p.environment.is_division_leaf(lp.leaf_b))
+                            .collect();
+                        assert_eq!(c.plane_sphere, at_division.len() as u64, "{m}");
+                        leaf_plane_tests += at_division.len();
+                        for lp in at_division {
+                            assert!(ctree.node(lp.leaf_a).is_leaf(), "{m}");
+                            assert!(p.environment.tree.node(lp.leaf_b).is_leaf(), "{m}");
+                        }
+                    }
                     assert_eq!(
                         c.operations(),
                         10 * c.sphere_sphere + 96 * c.tri_tri + 30 * c.plane_sphere
                     );
                 }
                 // Testing the plane on the way down only removes pairs (and,
-                // above, never a contact): plane-sphere reports a subset of
-                // what the leaf-only reading reports.
+                // above, never a contact): each pruned method reports a subset
+                // of what its leaf-only twin (the paper's reading) reports.
                 let pairs_of = |m: Method| -> BTreeSet<(u32, u32)> {
                     let p = pipes.iter().find(|p| p.method == m).unwrap();
                     p.pairs.iter().copied().collect()
                 };
-                assert!(
-                    pairs_of(Method::PlaneSphere).is_subset(&pairs_of(Method::PlaneSphereLeaf)),
-                    "seed {seed} frame {frame}"
-                );
+                for (pruned, literal) in [
+                    (Method::PlaneSpherePruned, Method::PlaneSphere),
+                    (
+                        Method::QuaternaryPlaneSpherePruned,
+                        Method::QuaternaryPlaneSphere,
+                    ),
+                ] {
+                    assert!(
+                        pairs_of(pruned).is_subset(&pairs_of(literal)),
+                        "seed {seed} frame {frame}: {pruned} against {literal}"
+                    );
+                }
             }
         }
     }
     assert!(skinned_all > 0, "the skin-everything path is exercised");
+    assert!(
+        leaf_plane_tests > 0,
+        "leaf-only plane-sphere tests are exercised"
+    );
     assert!(
         contacts > 50,
         "the scenes must collide ({contacts} contacts)"
@@ -178,4 +208,34 @@ fn same_inputs_same_counters_and_pairs() {
             .collect()
     };
     assert_eq!(run(), run());
+}
+
+/// The visit log a recorder turns on changes nothing that is measured: the
+/// counters (times aside), the leaf pairs and the colliding pairs, for every
+/// method, frame by frame.
+#[test]
+fn the_visit_log_changes_no_counter() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
+    let r = cornertree::scenario::open_scenario(&path).unwrap();
+    let env = &r.environment.mesh;
+    for m in Method::ALL {
+        let mut plain = Pipeline::new(&r.character, env, m, r.pipeline_options());
+        let mut logged = Pipeline::new(&r.character, env, m, r.pipeline_options());
+        logged.set_visit_log(true);
+        let mut b = PoseBuffers::new(&r.character);
+        for k in 0..3 {
+            r.pose_frame(&mut b, k);
+            let mut c0 = plain.detect(&b, &r.character, env);
+            let mut c1 = logged.detect(&b, &r.character, env);
+            c0.time = Default::default();
+            c1.time = Default::default();
+            assert_eq!(c0, c1, "{m} frame {k}");
+            assert!(c0.pairs > 0, "{m} frame {k}: contacts");
+            assert_eq!(plain.leaf_pairs(), logged.leaf_pairs(), "{m} frame {k}");
+            assert_eq!(plain.pairs, logged.pairs, "{m} frame {k}");
+            assert!(plain.visit_log().is_none());
+            let log = logged.visit_log().unwrap();
+            assert_eq!(log.sphere_tests(), c1.sphere_sphere, "{m} frame {k}");
+        }
+    }
 }

@@ -1,6 +1,7 @@
 //! After the first frame, a frame of the pipeline allocates nothing: posing,
-//! skinning, on-demand refit, traversal and the narrow phase reuse their
-//! buffers (counted with a global allocator that counts).
+//! skinning, on-demand refit, traversal (with or without its visit log) and
+//! the narrow phase reuse their buffers (counted with a global allocator that
+//! counts).
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
@@ -38,10 +39,15 @@ fn frames_after_the_first_allocate_nothing() {
     let r = open_scenario(&path).unwrap();
     let options = r.pipeline_options();
     let env = &r.environment.mesh;
-    let mut pipes: Vec<Pipeline> = Method::ALL
-        .iter()
-        .map(|&m| Pipeline::new(&r.character, env, m, options))
-        .collect();
+    // Every method, without and with the visit log a recorder turns on.
+    let mut pipes: Vec<Pipeline> = Vec::new();
+    for log in [false, true] {
+        for m in Method::ALL {
+            let mut p = Pipeline::new(&r.character, env, m, options);
+            p.set_visit_log(log);
+            pipes.push(p);
+        }
+    }
     let mut buffers = PoseBuffers::new(&r.character);
     let frames = 12;
     let mut per_frame = Vec::with_capacity(frames);

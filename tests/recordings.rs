@@ -1,23 +1,28 @@
 //! Recordings read back: entity layout, the frame timeline, logged values
-//! against the JSON report and the trees, interruption, figures.
+//! against the JSON report and the trees, the tested spheres against the
+//! timed traversal's visit log, interruption, figures.
 
 mod common;
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use common::Scratch;
-use common::rrd::{Rrd, read_rrd};
+use common::rrd::{LoggedSphere, Rrd, read_rrd};
 use cornertree::big_triangle::hierarchy::MAX_LEVELS;
 use cornertree::big_triangle::{Division, DivisionKind};
+use cornertree::character::PoseBuffers;
+use cornertree::geometry::Sphere;
 use cornertree::mesh::TriangleId;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::Pipeline;
+use cornertree::pipeline::driver::{FrameCounters, Pipeline};
 use cornertree::record::figures::{dedup_example, example_big_triangle};
 use cornertree::record::layout;
-use cornertree::scenario::open_scenario;
+use cornertree::scenario::{Resolved, open_scenario};
+use cornertree::sphere_tree::refit::{OnDemand, RefitState, Refitter};
+use cornertree::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse};
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_cornertree"))
@@ -229,11 +234,308 @@ fn all_spheres_option_logs_every_level_of_both_trees() {
             "level {l}: {counts:?} vs {n}"
         );
     }
+    // The recorder refits the whole tree in its own state, for display: on
+    // the nodes the measured frame refit, the very same spheres.
+    let r = open_scenario(&scenario).unwrap();
+    let (_, measured) = measure(&r, Method::PlaneSphere, 2);
+    for (k, m) in measured.iter().enumerate() {
+        let shown: BTreeSet<LoggedSphere> = (0..avatar_levels.len())
+            .flat_map(|l| {
+                rrd.points(&layout::level_path(layout::AVATAR_SPHERES, l))
+                    .remove(&(k as i64))
+                    .unwrap_or_default()
+            })
+            .collect();
+        for s in &m.refit {
+            assert!(shown.contains(s), "frame {k}: {s:?}");
+        }
+    }
     let env_levels = pipeline.environment.tree.nodes_per_level();
     assert_eq!(levels_logged(&rrd, layout::ENV_SPHERES), env_levels.len());
     for (l, &n) in env_levels.iter().enumerate() {
         let rows = rrd.rows(&layout::level_path(layout::ENV_SPHERES, l), positions());
         assert_eq!(rows, vec![(None, n)], "environment level {l} (static)");
+    }
+}
+
+/// cesium_man.toml with the character 5 cm into the south wall (deepest over the clip): contacts for
+/// every method, big triangles at hand.
+fn cesium_into_wall(scratch: &Scratch) -> PathBuf {
+    let text = std::fs::read_to_string(cesium_scenario()).unwrap();
+    assert!(text.contains("metres = 0.01 }"), "{text}");
+    let text = text
+        .replace(
+            "../assets/CesiumMan.glb",
+            root().join("assets/CesiumMan.glb").to_str().unwrap(),
+        )
+        .replace("metres = 0.01 }", "metres = -0.05 }");
+    scratch.write("into_wall.toml", text)
+}
+
+/// Records `methods` on `scenario` for `frames` frames (no ground truth) and
+/// reads each recording back.
+fn record(scratch: &Scratch, scenario: &Path, methods: &[Method], frames: usize) -> Vec<Rrd> {
+    let save = scratch.path("rec.rrd");
+    let frames = frames.to_string();
+    let mut args = vec![
+        "run",
+        scenario.to_str().unwrap(),
+        "--frames",
+        &frames,
+        "--no-truth",
+        "--save",
+        save.to_str().unwrap(),
+    ];
+    for m in methods {
+        args.extend(["--method", m.name()]);
+    }
+    run_ok(&args, None);
+    methods
+        .iter()
+        .map(|m| {
+            let file = if methods.len() == 1 {
+                save.clone()
+            } else {
+                scratch.path(&format!("rec-{}.rrd", m.name()))
+            };
+            let rrd = read_rrd(&file);
+            assert_eq!(rrd.error, None, "{m}");
+            rrd
+        })
+        .collect()
+}
+
+/// One frame as measured in this process, through the pipeline's visit log.
+struct Measured {
+    counters: FrameCounters,
+    /// Environment nodes the timed traversal tested (its log).
+    tested: BTreeSet<u32>,
+    /// Environment nodes an unguarded traversal of the same pose tests, and
+    /// its number of sphere-sphere tests.
+    unguarded: BTreeSet<u32>,
+    unguarded_tests: u64,
+    /// The character's root sphere and every sphere refit this frame.
+    root: Sphere,
+    refit: Vec<LoggedSphere>,
+}
+
+fn logged(s: &Sphere) -> LoggedSphere {
+    (
+        [s.center.x, s.center.y, s.center.z].map(f32::to_bits),
+        s.radius.to_bits(),
+    )
+}
+
+/// The environment tree, marking every node whose sphere is tested.
+struct Marking<'a> {
+    tree: &'a SphereTree,
+    marked: BTreeSet<u32>,
+}
+
+impl Hierarchy for Marking<'_> {
+    fn tree(&self) -> &SphereTree {
+        self.tree
+    }
+    fn sphere(&mut self, id: NodeId) -> Sphere {
+        self.tree.node(id).sphere
+    }
+    fn tested(&mut self, id: NodeId) {
+        self.marked.insert(id.0);
+    }
+}
+
+/// Plays `frames` frames of `method` with the visit log on, checking each
+/// frame's log against the counters; beside it, the unguarded traversal of
+/// the same pose with a refit state of its own.
+fn measure(r: &Resolved, method: Method, frames: usize) -> (Pipeline, Vec<Measured>) {
+    let env = &r.environment.mesh;
+    let mut p = Pipeline::new(&r.character, env, method, r.pipeline_options());
+    p.set_visit_log(true);
+    let mut own = RefitState::new(&p.character_tree, r.character.skeleton.len());
+    let mut ws = Workspace::new();
+    let mut buffers = PoseBuffers::new(&r.character);
+    let parents = p.environment.tree.parents();
+    let mut out = Vec::new();
+    for k in 0..frames {
+        r.pose_frame(&mut buffers, k);
+        let counters = p.detect(&buffers, &r.character, env);
+        let log = p.visit_log().expect("the log is on");
+        let tested: BTreeSet<u32> = log.tested_nodes().map(|n| n.0).collect();
+        for n in &tested {
+            assert!(log.is_tested(NodeId(*n)));
+        }
+        // The log saw every sphere-sphere test the counters count, each
+        // involving one environment node; the root pair's test among them.
+        assert_eq!(
+            log.sphere_tests(),
+            counters.sphere_sphere,
+            "{method} frame {k}"
+        );
+        assert!(tested.contains(&0), "{method} frame {k}: the root pair");
+        assert!(tested.len() as u64 <= counters.sphere_sphere);
+        // A node is tested only below a tested parent, and every leaf pair
+        // handed to the narrow phase passed a test of its environment leaf.
+        for &n in &tested {
+            if n != 0 {
+                assert!(tested.contains(&parents[n as usize]), "{method}: {n}");
+            }
+        }
+        for lp in p.leaf_pairs() {
+            assert!(
+                tested.contains(&lp.leaf_b.0),
+                "{method}: leaf {:?}",
+                lp.leaf_b
+            );
+        }
+
+        own.begin_frame_with_base(&buffers.skin, &buffers.base);
+        let mut character = OnDemand {
+            refitter: Refitter {
+                tree: &p.character_tree,
+                skin: &buffers.skin,
+                state: &mut own,
+            },
+            base: buffers.base,
+        };
+        let mut marking = Marking {
+            tree: &p.environment.tree,
+            marked: BTreeSet::new(),
+        };
+        let unguarded = traverse(&mut character, &mut marking, &mut ws, |_| {});
+
+        let state = p.refit_state();
+        let refit: Vec<LoggedSphere> = (0..state.spheres.len())
+            .filter(|&i| state.is_fresh(NodeId(i as u32)))
+            .map(|i| logged(&state.spheres[i]))
+            .collect();
+        assert_eq!(refit.len() as u64, counters.refits);
+        out.push(Measured {
+            counters,
+            tested,
+            unguarded: marking.marked,
+            unguarded_tests: unguarded.sphere_tests,
+            root: state.spheres[0],
+            refit,
+        });
+    }
+    (p, out)
+}
+
+/// Level of every node (the root is 0), from the parent links.
+fn levels(tree: &SphereTree) -> Vec<usize> {
+    let parents = tree.parents();
+    let mut level = vec![0; tree.len()];
+    for i in 1..tree.len() {
+        level[i] = level[parents[i] as usize] + 1;
+    }
+    level
+}
+
+/// What the recording should show of a set of environment nodes: per level,
+/// those up to half the character's root radius that meet its root sphere
+/// (docs/recordings.md, `world/environment/spheres/level_{kk}`).
+fn shown(
+    tree: &SphereTree,
+    nodes: &BTreeSet<u32>,
+    root: &Sphere,
+) -> BTreeMap<usize, Vec<LoggedSphere>> {
+    let level = levels(tree);
+    let mut out: BTreeMap<usize, Vec<LoggedSphere>> = BTreeMap::new();
+    for &n in nodes {
+        let s = tree.node(NodeId(n)).sphere;
+        if s.radius <= 0.5 * root.radius && s.overlaps(root) {
+            out.entry(level[n as usize]).or_default().push(logged(&s));
+        }
+    }
+    for v in out.values_mut() {
+        v.sort_unstable();
+    }
+    out
+}
+
+/// The environment spheres a recording shows at frame `k`, per level.
+fn recorded_env(rrd: &Rrd, levels: usize, k: usize) -> BTreeMap<usize, Vec<LoggedSphere>> {
+    (0..levels)
+        .filter_map(|l| {
+            let v = rrd
+                .ellipsoids(&layout::level_path(layout::ENV_SPHERES, l))
+                .remove(&(k as i64))
+                .unwrap_or_default();
+            (!v.is_empty()).then_some((l, v))
+        })
+        .collect()
+}
+
+#[test]
+fn recorded_tested_spheres_are_the_timed_traversals_for_every_method() {
+    let scratch = Scratch::new("rec-tested");
+    let scenario = cesium_into_wall(&scratch);
+    let frames = 4;
+    let recordings = record(&scratch, &scenario, &Method::ALL, frames);
+    let r = open_scenario(&scenario).unwrap();
+    for (&method, rrd) in Method::ALL.iter().zip(&recordings) {
+        let (p, measured) = measure(&r, method, frames);
+        let env_tree = &p.environment.tree;
+        let env_levels = env_tree.depth();
+        let avatar_levels = p.character_tree.tree.depth();
+        let ss = rrd.scalars("stats/tests/sphere_sphere");
+        let mut seen = 0;
+        let mut pruned_tests = false;
+        for (k, m) in measured.iter().enumerate() {
+            // The recorded run played the same frames as this process.
+            assert_eq!(
+                ss[&(k as i64)],
+                m.counters.sphere_sphere as f64,
+                "{method} frame {k}"
+            );
+            // The plane guard drops a pair only at a big triangle's division
+            // leaf, whose sphere has just been tested, and the pairs below it
+            // hold that same leaf: it prunes tests (and character spheres),
+            // never an environment node the unguarded traversal tests.
+            assert_eq!(m.tested, m.unguarded, "{method} frame {k}");
+            if method.prunes_at_plane() {
+                assert!(m.counters.sphere_sphere <= m.unguarded_tests);
+                pruned_tests |= m.counters.sphere_sphere < m.unguarded_tests;
+            } else {
+                assert_eq!(m.counters.sphere_sphere, m.unguarded_tests);
+            }
+            let expected = shown(env_tree, &m.tested, &m.root);
+            assert_eq!(
+                recorded_env(rrd, env_levels, k),
+                expected,
+                "{method} frame {k}: recorded environment spheres"
+            );
+            seen += expected.values().map(Vec::len).sum::<usize>();
+
+            // Character spheres: exactly those the measured frame refit.
+            let mut avatar: Vec<LoggedSphere> = (0..avatar_levels)
+                .flat_map(|l| {
+                    rrd.points(&layout::level_path(layout::AVATAR_SPHERES, l))
+                        .remove(&(k as i64))
+                        .unwrap_or_default()
+                })
+                .collect();
+            avatar.sort_unstable();
+            let mut refit = m.refit.clone();
+            refit.sort_unstable();
+            assert_eq!(avatar, refit, "{method} frame {k}: character spheres");
+        }
+        assert!(
+            measured.iter().any(|m| m.counters.pairs > 0),
+            "{method}: contacts"
+        );
+        assert_eq!(
+            pruned_tests,
+            method.prunes_at_plane(),
+            "{method}: the guard saves tests on some frame"
+        );
+        // Without a division the wall is one sphere far bigger than the
+        // character, hidden by the display rule.
+        assert_eq!(
+            seen > 0,
+            method.division().is_some(),
+            "{method}: tested spheres shown near the character"
+        );
     }
 }
 

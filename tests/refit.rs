@@ -83,6 +83,75 @@ proptest! {
     }
 }
 
+/// Full refit of `c` in pose `local`, placed at `offset`, against every vertex
+/// skinned by the production code (`PoseBuffers::place`, then `skin_all`),
+/// with tolerance 0: returns violations, checks, worst excess.
+fn placed_refit_violations(
+    c: &Character,
+    local: &[cornertree::character::Trs],
+    model: SkinningModel,
+    offset: [f32; 3],
+) -> (u64, u64, f64) {
+    let ct = CharacterTree::build(
+        c,
+        &EdgeDedup::keep_all(&c.mesh),
+        model,
+        BuildParams::default(),
+    );
+    let mut b = PoseBuffers::new(c);
+    b.local.copy_from_slice(local);
+    b.pose_local(c);
+    b.place(&nalgebra::Matrix4::new_translation(&offset.into()));
+    b.skin_all(c, model);
+    let mut state = RefitState::new(&ct, c.skeleton.len());
+    state.begin_frame_with_base(&b.skin, &b.base);
+    Refitter {
+        tree: &ct,
+        skin: &b.skin,
+        state: &mut state,
+    }
+    .refit_all(&b.base);
+    let r = VertexSets::new(&ct.tree, &c.mesh).check(&state.spheres, &b.positions, 0.0);
+    let (walk, _) = common::ancestor_walk_violations(
+        &ct.tree,
+        &state.spheres,
+        &b.positions,
+        c.mesh.indices(),
+        0.0,
+    );
+    assert_eq!(walk == 0, r.violations == 0);
+    (r.violations, r.checks, r.worst_excess)
+}
+
+/// An offset of up to 10 km per axis: a random direction scaled by 10^e.
+fn offsets() -> impl Strategy<Value = [f32; 3]> {
+    (prop::array::uniform3(-1.0f32..1.0), 0i32..=4).prop_map(|(d, e)| d.map(|x| x * 10f32.powi(e)))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// Non-uniform joint scales, random weights (repeated joints included),
+    /// random poses, the character up to 10 km from the origin: refit spheres
+    /// hold every vertex the production skinning computes, with no tolerance.
+    #[test]
+    fn refit_contains_every_vertex_far_from_origin(
+        seed in any::<u64>(),
+        joints in 1usize..9,
+        tris in 1usize..80,
+        pose_seed in any::<u64>(),
+        offset in offsets(),
+    ) {
+        let c = common::random_character(seed, joints, tris);
+        let local = common::random_pose_nonuniform(pose_seed, &c.skeleton, 2.0);
+        for model in [SkinningModel::Paper, SkinningModel::Linear] {
+            let (violations, checks, worst) = placed_refit_violations(&c, &local, model, offset);
+            prop_assert!(checks > 0);
+            prop_assert_eq!(violations, 0, "{:?} at {:?}: worst excess {}", model, offset, worst);
+        }
+    }
+}
+
 #[test]
 fn refit_is_not_vacuous() {
     // Breaking the rule (ignoring the pose) must produce violations.

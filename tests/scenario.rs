@@ -356,3 +356,66 @@ fn environment_vertices_retessellates_the_generated_room() {
     let (_, msg) = error_of("vertices_gltf.toml", &text);
     assert!(msg.contains("environment.vertices"), "{msg}");
 }
+
+#[test]
+fn gap_along_moves_the_character_along_the_wall() {
+    let resolve_text = |name: &str, text: &str| {
+        let path = temp_dir().join(name);
+        std::fs::write(&path, text).unwrap();
+        resolve(&load_scenario(&path).unwrap(), &temp_dir()).unwrap()
+    };
+    let centred = resolve_text("along0.toml", GOOD);
+    let moved = resolve_text(
+        "along.toml",
+        &GOOD.replace("metres = 0.01 }", "metres = 0.01, along = -1.25 }"),
+    );
+    // The south wall's horizontal direction is +x (up × its normal +z).
+    let d = moved.placement_at(0).translation.vector - centred.placement_at(0).translation.vector;
+    assert!(
+        (d.x + 1.25).abs() < 1e-4 && d.y.abs() < 1e-4 && d.z.abs() < 1e-4,
+        "{d:?}"
+    );
+    assert!((moved.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+
+    let (path, msg) = error_of(
+        "along_nan.toml",
+        &GOOD.replace("metres = 0.01 }", "metres = 0.01, along = nan }"),
+    );
+    assert!(
+        msg.starts_with(&line_prefix(&path, 10)) && msg.contains("placement.gap.along"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn subdivide_splits_the_named_objects() {
+    let path = temp_dir().join("split.toml");
+    let text = GOOD.replace(
+        "kind = \"living-room\"",
+        "kind = \"living-room\"\nsubdivide = [{ object = \"south wall\", times = 3 }, { object = \"floor\", times = 1 }]",
+    );
+    std::fs::write(&path, text).unwrap();
+    let r = resolve(&load_scenario(&path).unwrap(), &temp_dir()).unwrap();
+    assert_eq!(
+        r.environment.object("south wall").unwrap().triangles.len(),
+        2 * 64
+    );
+    assert_eq!(
+        r.environment.object("floor").unwrap().triangles.len(),
+        2 * 4
+    );
+    // The wall's plane is unchanged, so the gap is kept.
+    assert!((r.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+
+    for (name, entry) in [
+        ("split_unknown.toml", "{ object = \"no wall\", times = 1 }"),
+        ("split_huge.toml", "{ object = \"floor\", times = 30 }"),
+    ] {
+        let text = GOOD.replace(
+            "kind = \"living-room\"",
+            &format!("kind = \"living-room\"\nsubdivide = [{entry}]"),
+        );
+        let (_, msg) = error_of(name, &text);
+        assert!(msg.contains("environment.subdivide"), "{msg}");
+    }
+}

@@ -42,6 +42,40 @@ pub enum SkeletonError {
     },
     #[error("joint {joint} ({name}) has a non-finite rest transform or inverse bind matrix")]
     NonFinite { joint: usize, name: String },
+    #[error(
+        "joint {joint} ({name}): the inverse bind matrix's fourth row is {row:?}, not [0, 0, 0, 1]"
+    )]
+    NotAffine {
+        joint: usize,
+        name: String,
+        row: [f32; 4],
+    },
+    #[error("the skeleton base's fourth row is {0:?}, not [0, 0, 0, 1]")]
+    BaseNotAffine([f32; 4]),
+}
+
+/// Deviation of a fourth row from `[0, 0, 0, 1]` accepted as rounding (a
+/// matrix inverted in `f32` lands within a few ulps of it).
+const AFFINE_TOLERANCE: f32 = 1e-4;
+
+/// `m` with its fourth row set to exactly `[0, 0, 0, 1]`, or `None` when that
+/// row is further than [`AFFINE_TOLERANCE`] from it (or not a number). Exact
+/// affine matrices keep skinning free of a projective division (see
+/// [`PAPER_ROUNDINGS`](super::skinning::PAPER_ROUNDINGS)).
+fn exactly_affine(mut m: Matrix4<f32>) -> Option<Matrix4<f32>> {
+    let row = [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)] - 1.0];
+    if row.iter().any(|x| x.is_nan() || x.abs() > AFFINE_TOLERANCE) {
+        return None;
+    }
+    m[(3, 0)] = 0.0;
+    m[(3, 1)] = 0.0;
+    m[(3, 2)] = 0.0;
+    m[(3, 3)] = 1.0;
+    Some(m)
+}
+
+fn fourth_row(m: &Matrix4<f32>) -> [f32; 4] {
+    [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)]]
 }
 
 /// Joints in an order where every parent comes before its children, so world
@@ -57,7 +91,9 @@ pub struct Skeleton {
 }
 
 impl Skeleton {
-    pub fn new(joints: Vec<Joint>, base: Matrix4<f32>) -> Result<Self, SkeletonError> {
+    /// Checks the joints; inverse bind matrices and the base get an exact
+    /// `[0, 0, 0, 1]` fourth row (a deviation beyond rounding is an error).
+    pub fn new(mut joints: Vec<Joint>, base: Matrix4<f32>) -> Result<Self, SkeletonError> {
         if joints.is_empty() {
             return Err(SkeletonError::Empty);
         }
@@ -85,6 +121,16 @@ impl Skeleton {
                 });
             }
         }
+        for (i, j) in joints.iter_mut().enumerate() {
+            j.inverse_bind =
+                exactly_affine(j.inverse_bind).ok_or_else(|| SkeletonError::NotAffine {
+                    joint: i,
+                    name: j.name.clone(),
+                    row: fourth_row(&j.inverse_bind),
+                })?;
+        }
+        let base =
+            exactly_affine(base).ok_or_else(|| SkeletonError::BaseNotAffine(fourth_row(&base)))?;
         let rest = joints.iter().map(|j| j.rest).collect();
         Ok(Self { joints, rest, base })
     }
@@ -181,5 +227,45 @@ impl Skeleton {
             j = self.parent(x);
         }
         d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn joint(inverse_bind: Matrix4<f32>) -> Joint {
+        Joint {
+            name: "j".into(),
+            parent: None,
+            rest: Trs::IDENTITY,
+            inverse_bind,
+        }
+    }
+
+    #[test]
+    fn fourth_rows_become_exact_or_are_rejected() {
+        let mut near = Matrix4::new_translation(&nalgebra::Vector3::new(1.0, 2.0, 3.0));
+        near[(3, 3)] = 1.0 + 3e-7;
+        near[(3, 1)] = -2e-8;
+        let s = Skeleton::new(vec![joint(near)], near).unwrap();
+        let ib = s.joint(JointId(0)).inverse_bind;
+        assert_eq!(
+            [ib[(3, 0)], ib[(3, 1)], ib[(3, 2)], ib[(3, 3)]],
+            [0.0, 0.0, 0.0, 1.0]
+        );
+        assert_eq!(ib[(1, 3)], 2.0);
+        assert_eq!(s.base()[(3, 3)], 1.0);
+
+        let mut projective = Matrix4::identity();
+        projective[(3, 2)] = 0.5;
+        assert!(matches!(
+            Skeleton::new(vec![joint(projective)], Matrix4::identity()),
+            Err(SkeletonError::NotAffine { joint: 0, .. })
+        ));
+        assert!(matches!(
+            Skeleton::new(vec![joint(Matrix4::identity())], projective),
+            Err(SkeletonError::BaseNotAffine(_))
+        ));
     }
 }

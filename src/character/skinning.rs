@@ -12,6 +12,12 @@
 //!   root joint the parent frame is the skeleton's base.
 //!
 //! [`PaperBinding::from_influences`] converts glTF weights to the paper's model.
+//!
+//! **Rounding.** Both models run in `f32`. [`LINEAR_ROUNDINGS`] and
+//! [`PAPER_ROUNDINGS`] count the roundings on any path from an input product
+//! to a skinned coordinate; refit turns them into a bound on how far a skinned
+//! vertex can lie from its exact position (see [`crate::sphere_tree::refit`]).
+//! Change the arithmetic below and those counts must be checked again.
 
 use nalgebra::Matrix4;
 
@@ -19,8 +25,27 @@ use crate::geometry::Point;
 
 use super::{JointId, Skeleton};
 
+/// Roundings on any path of [`Influences::skin_vertex`]: the product
+/// `m·h` (1), the four-term row sum of `M_j·h` in any order (at most 3), the
+/// weight product (1), and the sum over at most four influences (at most 3;
+/// adding to the zero start is exact). The result differs from
+/// `Σ_j w_j·M_j·h`, computed exactly from the same `f32` numbers, by at most
+/// `γ_8 · Σ_j w_j·|M_j|·|h|` per coordinate (`γ_n = n·u / (1 − n·u)`,
+/// `u = 2⁻²⁴`).
+pub const LINEAR_ROUNDINGS: u32 = 8;
+
+/// Roundings on any path of [`PaperBinding::skin_vertex`]: the blend
+/// `(1 − w)·M_p + w·M_a` element by element (a product and a sum: 2; `1 − w`
+/// is taken as the exact weight it rounds to), then `transform_point` (a
+/// product and at most 3 additions: 4). Its division is exact: the blend's last
+/// row is `[0, 0, 0, fl(fl(1 − w) + w)] = [0, 0, 0, 1]` for `w ∈ [0, 1]` because
+/// the skeleton keeps every matrix affine ([`Skeleton::new`]).
+pub const PAPER_ROUNDINGS: u32 = 6;
+
 /// Which skinning model animates the mesh.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum SkinningModel {
     /// glTF linear blend skinning, up to four influences.

@@ -9,6 +9,7 @@
 //! | [`living_room`](mod@living_room) | [`living_room()`]: an 8 m × 6 m × 2.7 m living/dining room, 133,139 vertices |
 //! | [`scene`] | [`load_scene`]: a static glTF scene as an environment, degenerate triangles removed |
 //! | `build` | shapes, the tessellation plan that meets a vertex target, the mesh builder (private) |
+//! | `subdivide` | [`Environment::subdivide_object`]: one object's triangles split at edge midpoints (an experiment knob) |
 //!
 //! **Conventions.** Y up, metres, the floor at `y = 0`, the room spanning
 //! `x ∈ [0, W]`, `z ∈ [0, D]`, `y ∈ [0, H]`. Every object is a contiguous run
@@ -61,6 +62,7 @@ mod build;
 pub mod living_room;
 pub mod museum;
 pub mod scene;
+mod subdivide;
 
 use std::fmt;
 use std::ops::Range;
@@ -74,6 +76,7 @@ pub use build::MAX_VERTICES;
 pub use living_room::{LIVING_ROOM_VERTICES, living_room, living_room_scaled};
 pub use museum::{MUSEUM_VERTICES, museum, museum_scaled};
 pub use scene::{SceneError, SceneReport, load_scene};
+pub use subdivide::{MAX_SUBDIVIDED_TRIANGLES, SubdivideError};
 
 /// What an object is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -4,11 +4,22 @@
 //! component format core glTF 2.0 allows; dense or sparse.
 //!
 //! Every offset, stride and count comes from the file, so all arithmetic is
-//! checked and every range is verified before it is read; a bad accessor is an
-//! `Err` with a one-line reason, never a panic.
+//! checked and every range is verified before it is read, and what is decoded
+//! is charged to the load's [`Budget`] before it is allocated; a bad accessor
+//! is an `Err` with a one-line reason, never a panic. Floats must be finite
+//! (NaN and infinities are refused with the element and component), except
+//! positions, whose caller reports them by vertex.
 
 use gltf::accessor::{Accessor, DataType, Dimensions};
 use gltf::buffer::{Data, View};
+
+use super::limits::Budget;
+
+/// The loaded buffers of a file and the budget its decoding is charged to.
+pub(crate) struct Buffers {
+    pub data: Vec<Data>,
+    pub budget: Budget,
+}
 
 /// Most elements an accessor without a buffer view (all zeros, perhaps with
 /// sparse overrides) may declare: nothing bounds its count by real data, so a
@@ -19,30 +30,31 @@ const MAX_ELEMENTS_WITHOUT_VIEW: usize = 1 << 24;
 /// VEC3 FLOAT (other types need `KHR_mesh_quantization`, which is refused earlier).
 pub(crate) fn read_positions(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
 ) -> Result<Vec<[f32; 3]>, String> {
-    read_vec3_f32(accessor, buffers, "POSITION")
+    expect_float(accessor, Dimensions::Vec3, "POSITION", "VEC3 FLOAT")?;
+    read_floats::<3>(accessor, buffers)
 }
 
 /// A VEC3 FLOAT accessor (`what` names it in errors): positions, and
 /// translation/scale keyframes, which core glTF 2.0 requires to be FLOAT.
 pub(crate) fn read_vec3_f32(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
     what: &str,
 ) -> Result<Vec<[f32; 3]>, String> {
     expect_float(accessor, Dimensions::Vec3, what, "VEC3 FLOAT")?;
-    read_floats::<3>(accessor, buffers)
+    finite(what, read_floats::<3>(accessor, buffers)?)
 }
 
 /// A SCALAR FLOAT accessor: keyframe times.
 pub(crate) fn read_scalars_f32(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
     what: &str,
 ) -> Result<Vec<f32>, String> {
     expect_float(accessor, Dimensions::Scalar, what, "SCALAR FLOAT")?;
-    Ok(read_floats::<1>(accessor, buffers)?
+    Ok(finite(what, read_floats::<1>(accessor, buffers)?)?
         .into_iter()
         .map(|[x]| x)
         .collect())
@@ -51,17 +63,17 @@ pub(crate) fn read_scalars_f32(
 /// A MAT4 FLOAT accessor (inverse bind matrices), each matrix column-major as stored.
 pub(crate) fn read_mat4_f32(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
     what: &str,
 ) -> Result<Vec<[f32; 16]>, String> {
     expect_float(accessor, Dimensions::Mat4, what, "MAT4 FLOAT")?;
-    read_floats::<16>(accessor, buffers)
+    finite(what, read_floats::<16>(accessor, buffers)?)
 }
 
 /// `JOINTS_n`: VEC4 UNSIGNED_BYTE or UNSIGNED_SHORT, not normalized.
 pub(crate) fn read_joints(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
     what: &str,
 ) -> Result<Vec<[u16; 4]>, String> {
     if accessor.dimensions() != Dimensions::Vec4 || accessor.normalized() {
@@ -88,7 +100,7 @@ pub(crate) fn read_joints(
 /// UNSIGNED_SHORT, converted to floats as the spec says (`c / 255`, `c / 65535`).
 pub(crate) fn read_weights(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
     what: &str,
 ) -> Result<Vec<[f32; 4]>, String> {
     read_unit_vec4(
@@ -104,7 +116,7 @@ pub(crate) fn read_weights(
 /// UNSIGNED_SHORT, converted as the spec says; `[x, y, z, w]` as stored.
 pub(crate) fn read_rotations(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
     what: &str,
 ) -> Result<Vec<[f32; 4]>, String> {
     read_unit_vec4(
@@ -120,7 +132,7 @@ pub(crate) fn read_rotations(
 /// anything else is an error naming `what` and the `allowed` forms.
 fn read_unit_vec4(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
     what: &str,
     allowed: &str,
     normalized: &[DataType],
@@ -138,7 +150,7 @@ fn read_unit_vec4(
         ));
     }
     if accessor.data_type() == DataType::F32 {
-        read_floats::<4>(accessor, buffers)
+        finite(what, read_floats::<4>(accessor, buffers)?)
     } else {
         read_normalized::<4>(accessor, buffers)
     }
@@ -176,10 +188,27 @@ fn expect_float(
     Ok(())
 }
 
+/// `values` if every number is finite, else which element and component is not.
+fn finite<const N: usize>(what: &str, values: Vec<[f32; N]>) -> Result<Vec<[f32; N]>, String> {
+    for (i, v) in values.iter().enumerate() {
+        if let Some((c, x)) = v.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+            let component = if N == 1 {
+                String::new()
+            } else {
+                format!(", component {c}")
+            };
+            return Err(format!(
+                "{what} element {i}{component} is {x}; only finite numbers are accepted"
+            ));
+        }
+    }
+    Ok(values)
+}
+
 /// `N` little-endian floats per element (the caller checked the type).
 fn read_floats<const N: usize>(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
 ) -> Result<Vec<[f32; N]>, String> {
     read_elements(accessor, 4 * N, buffers, [0.0; N], |b| {
         std::array::from_fn(|k| le_f32(&b[4 * k..4 * k + 4]))
@@ -190,7 +219,7 @@ fn read_floats<const N: usize>(
 /// rules: unsigned `c / max`, signed `max(c / max, -1)`.
 fn read_normalized<const N: usize>(
     accessor: &Accessor<'_>,
-    buffers: &[Data],
+    buffers: &Buffers,
 ) -> Result<Vec<[f32; N]>, String> {
     match accessor.data_type() {
         DataType::U8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
@@ -214,7 +243,7 @@ fn read_normalized<const N: usize>(
 }
 
 /// The values of an index accessor, widened to `u32`.
-pub(crate) fn read_indices(accessor: &Accessor<'_>, buffers: &[Data]) -> Result<Vec<u32>, String> {
+pub(crate) fn read_indices(accessor: &Accessor<'_>, buffers: &Buffers) -> Result<Vec<u32>, String> {
     if accessor.dimensions() != Dimensions::Scalar {
         return Err(format!(
             "indices must be SCALAR, found {:?}",
@@ -235,6 +264,13 @@ pub(crate) fn read_indices(accessor: &Accessor<'_>, buffers: &[Data]) -> Result<
     }
 }
 
+/// Charges `count` decoded elements of type `T` to the load's budget.
+fn charge<T>(buffers: &Buffers, count: usize) -> Result<(), String> {
+    buffers
+        .budget
+        .charge("decoding the accessor", count, std::mem::size_of::<T>())
+}
+
 fn le_f32(b: &[u8]) -> f32 {
     f32::from_le_bytes([b[0], b[1], b[2], b[3]])
 }
@@ -244,7 +280,7 @@ fn le_f32(b: &[u8]) -> f32 {
 fn read_elements<T: Copy>(
     accessor: &Accessor<'_>,
     size: usize,
-    buffers: &[Data],
+    buffers: &Buffers,
     zero: T,
     decode: impl Fn(&[u8]) -> T,
 ) -> Result<Vec<T>, String> {
@@ -259,9 +295,13 @@ fn read_elements<T: Copy>(
                 count,
             )
             .map_err(|e| format!("buffer view {}: {e}", view.index()))?;
+            charge::<T>(buffers, count)?;
             (0..count).map(|i| decode(elements.get(i))).collect()
         }
-        None if count <= MAX_ELEMENTS_WITHOUT_VIEW => vec![zero; count],
+        None if count <= MAX_ELEMENTS_WITHOUT_VIEW => {
+            charge::<T>(buffers, count)?;
+            vec![zero; count]
+        }
         None => {
             return Err(format!(
                 "has no buffer view but declares {count} elements (at most {MAX_ELEMENTS_WITHOUT_VIEW} are accepted)"
@@ -308,9 +348,9 @@ fn read_elements<T: Copy>(
 }
 
 /// The bytes of a buffer view, checked against the loaded buffer.
-fn view_bytes<'b>(view: &View<'_>, buffers: &'b [Data]) -> Result<&'b [u8], String> {
+fn view_bytes<'b>(view: &View<'_>, buffers: &'b Buffers) -> Result<&'b [u8], String> {
     let buffer = view.buffer().index();
-    let data = buffers.get(buffer).ok_or_else(|| {
+    let data = buffers.data.get(buffer).ok_or_else(|| {
         format!(
             "buffer view {} refers to buffer {buffer}, which was not loaded",
             view.index()

@@ -18,8 +18,10 @@
 //!   a joint of the skin; a non-joint node between two joints must have the
 //!   identity transform (else an error). Rest pose = each joint node's local
 //!   TRS; a `matrix` is decomposed (shear, projection or zero scale is an
-//!   error). Inverse bind matrices come from the accessor (identity when
-//!   absent); fewer than joints is an error, extra ones are noted. The base is
+//!   error). The transforms of joints and of every node above them must be
+//!   finite (named by node and component). Inverse bind matrices come from
+//!   the accessor (identity when absent) and must be finite; fewer than
+//!   joints is an error, extra ones are noted. The base is
 //!   the world transform of the root joints' parent node (identity for a scene
 //!   root); root joints whose parents have different world transforms are an
 //!   error.
@@ -28,8 +30,9 @@
 //!   vertex keeps its four largest weights (renormalised by [`Influences`]);
 //!   vertices that lost a non-zero weight are counted in a note. A skinned
 //!   primitive without `JOINTS_0`/`WEIGHTS_0` is an error, as are joint indices
-//!   out of range or weights that do not sum to a positive number (named by
-//!   mesh, primitive and the primitive's own vertex index).
+//!   out of range, non-finite weights (named by accessor and element) or
+//!   weights that do not sum to a positive number (named by mesh, primitive
+//!   and the primitive's own vertex index).
 //! - **Clips.** One per animation (`name`, else `"animation N"`). Translation,
 //!   rotation and scale channels of joints become [`Channel`]s with their
 //!   interpolation (STEP, LINEAR, CUBICSPLINE); rotations in float or any
@@ -37,24 +40,32 @@
 //!   nodes and morph-weight channels are skipped and listed in
 //!   [`LoadReport::skipped_channels`]. A channel targeting a node that does not
 //!   exist, or a sampler whose output count does not match its input, is an
-//!   error.
+//!   error. So is damaged keyframe data in a channel that is converted: a time
+//!   or value that is not finite, or times that do not strictly increase (the
+//!   spec's rule), named by animation, channel, sampler, accessor and
+//!   element. Such a channel is not skipped: the file is damaged, and playing
+//!   the rest of it would hide that.
 //!
 //! Every [`LoadError`] is one line naming the file; malformed data is an error,
-//! never a panic.
+//! never a panic. What the file makes the loader allocate is charged to a
+//! byte budget first ([`LoadLimits`]); walks over the node graph are
+//! iterative and visit each node a bounded number of times.
+//! [`load_character_from`] loads from bytes already in memory.
 
 use std::path::Path;
 
 use gltf::animation::{Interpolation as GltfInterpolation, Property};
-use gltf::buffer::Data;
 use gltf::mesh::Semantic;
 use gltf::scene::Transform;
 use nalgebra::{Matrix3, Matrix4, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
-use super::gltf_accessor;
+use super::gltf_accessor::{self, Buffers};
 use super::gltf_static::{
-    LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble, load_buffers,
-    local_matrix, one_line, parse_root, read_triangle_primitive, scene_roots, validate,
+    LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble,
+    check_node_transform, load_buffers, local_matrix, one_line, parse_root, read_file,
+    read_triangle_primitive, scene_roots, validate,
 };
+use super::limits::{Budget, LoadLimits};
 use crate::character::skinning::SkinError;
 use crate::character::{
     Channel, ChannelValues, Character, Clip, Influences, Interpolation, Joint, JointId, Skeleton,
@@ -68,15 +79,30 @@ const MATRIX_TOLERANCE: f64 = 1e-4;
 
 /// The skinned character of a glTF file's default scene. See the module docs.
 pub fn load_character(path: &Path) -> Result<(Character, LoadReport), LoadError> {
-    let bytes = std::fs::read(path).map_err(|error| LoadError::Io {
-        path: path.to_owned(),
-        error,
-    })?;
-    let (root, blob) = parse_root(path, &bytes)?;
+    let limits = LoadLimits::default();
+    let bytes = read_file(path, &limits)?;
+    load_character_from(path, &bytes, &limits)
+}
+
+/// [`load_character`] of a file already read into `bytes`: `path` names it in
+/// messages and locates external buffers (relative to its folder).
+pub fn load_character_from(
+    path: &Path,
+    bytes: &[u8],
+    limits: &LoadLimits,
+) -> Result<(Character, LoadReport), LoadError> {
+    let budget = Budget::new(limits);
+    budget
+        .charge("the file", bytes.len(), 1)
+        .map_err(|reason| LoadError::Limit {
+            path: path.to_owned(),
+            reason,
+        })?;
+    let (root, blob) = parse_root(path, bytes, &budget)?;
     check_channel_targets(path, &root)?;
     validate(path, &root)?;
     let document = gltf::Document::from_json_without_validation(root);
-    let buffers = load_buffers(path, &document, blob)?;
+    let buffers = load_buffers(path, &document, blob, budget)?;
     let mut loader = CharacterLoader {
         path,
         buffers: &buffers,
@@ -92,12 +118,25 @@ pub fn load_character(path: &Path) -> Result<(Character, LoadReport), LoadError>
 }
 
 /// The gltf crate's validation reports a channel on a missing node as a generic
-/// index error; this names it.
+/// index error, and does not look at a channel's target path at all (reading
+/// an unknown one panics); this names both.
 fn check_channel_targets(path: &Path, root: &gltf::json::Root) -> Result<(), LoadError> {
     let nodes = root.nodes.len();
     for (a, animation) in root.animations.iter().enumerate() {
         for (c, channel) in animation.channels.iter().enumerate() {
             let node = channel.target.node.value();
+            if !matches!(
+                channel.target.path,
+                gltf::json::validation::Checked::Valid(_)
+            ) {
+                return Err(LoadError::Animation {
+                    path: path.to_owned(),
+                    animation: a,
+                    channel: c,
+                    reason: "target path is not one of translation, rotation, scale, weights"
+                        .into(),
+                });
+            }
             if node >= nodes {
                 return Err(LoadError::Animation {
                     path: path.to_owned(),
@@ -125,7 +164,7 @@ struct PrimitiveRange {
 
 struct CharacterLoader<'a> {
     path: &'a Path,
-    buffers: &'a [Data],
+    buffers: &'a Buffers,
     report: LoadReport,
 }
 
@@ -292,24 +331,6 @@ impl CharacterLoader<'_> {
         Ok(parents)
     }
 
-    /// World transform of a node from the file's hierarchy (rest transforms).
-    fn world(
-        &self,
-        document: &gltf::Document,
-        parents: &[Option<usize>],
-        node: usize,
-    ) -> Matrix4<f64> {
-        let mut m = Matrix4::identity();
-        let mut cur = Some(node);
-        while let Some(c) = cur {
-            if let Some(n) = document.nodes().nth(c) {
-                m = local_matrix(&n) * m;
-            }
-            cur = parents[c];
-        }
-        m
-    }
-
     fn skin_error(&self, skin: &gltf::Skin<'_>, reason: String) -> LoadError {
         LoadError::Skin {
             path: self.path.to_owned(),
@@ -356,44 +377,104 @@ impl CharacterLoader<'_> {
             *slot = Some(k);
         }
 
+        // The skeleton reads the transforms of the joints and of every node
+        // above them: each is checked once, and its local matrix kept.
+        let mut local: Vec<Option<Matrix4<f64>>> = vec![None; nodes.len()];
+        for &node in &joint_nodes {
+            let mut cur = Some(node);
+            while let Some(c) = cur
+                && local[c].is_none()
+            {
+                check_node_transform(&nodes[c]).map_err(|reason| LoadError::Node {
+                    path: self.path.to_owned(),
+                    node: c,
+                    reason,
+                })?;
+                local[c] = Some(local_matrix(&nodes[c]));
+                cur = parents[c];
+            }
+        }
+        let local_of = |n: usize| local[n].unwrap_or_else(Matrix4::identity);
+
+        // For each node above a joint: its nearest joint ancestor, and the
+        // nearest non-joint node with a non-identity transform between the
+        // two. Filled top-down along each upward chain, so every node is
+        // computed once.
+        let mut above: Vec<Option<(Option<usize>, Option<usize>)>> = vec![None; nodes.len()];
+        for &node in &joint_nodes {
+            let mut chain = Vec::new();
+            let mut cur = Some(node);
+            while let Some(c) = cur
+                && above[c].is_none()
+            {
+                chain.push(c);
+                cur = parents[c];
+            }
+            for &c in chain.iter().rev() {
+                above[c] = Some(match parents[c] {
+                    None => (None, None),
+                    Some(p) if skin_index[p].is_some() => (Some(p), None),
+                    Some(p) => {
+                        let (joint, bad) = above[p].unwrap_or((None, None));
+                        let bad = if is_identity(&local_of(p)) {
+                            bad
+                        } else {
+                            Some(p)
+                        };
+                        (joint, bad)
+                    }
+                });
+            }
+        }
+
+        // World transforms (rest) of the nodes root joints hang from, each
+        // node's computed once from its parent's.
+        let mut world: Vec<Option<Matrix4<f64>>> = vec![None; nodes.len()];
+        let mut world_of = |node: usize| -> Matrix4<f64> {
+            let mut chain = Vec::new();
+            let mut cur = Some(node);
+            while let Some(c) = cur
+                && world[c].is_none()
+            {
+                chain.push(c);
+                cur = parents[c];
+            }
+            let mut m = cur.and_then(|c| world[c]).unwrap_or_else(Matrix4::identity);
+            for &c in chain.iter().rev() {
+                m *= local_of(c);
+                world[c] = Some(m);
+            }
+            m
+        };
+
         // Nearest joint ancestor of each joint, and the parent node of each root joint.
         let mut parent_joint: Vec<Option<usize>> = vec![None; joint_nodes.len()];
         let mut base: Option<(usize, Option<usize>, Matrix4<f64>)> = None;
         for (k, &node) in joint_nodes.iter().enumerate() {
-            let mut between = Vec::new();
-            let mut cur = parents[node];
-            while let Some(p) = cur {
-                if let Some(pk) = skin_index[p] {
-                    parent_joint[k] = Some(pk);
-                    break;
-                }
-                between.push(p);
-                cur = parents[p];
-            }
-            if parent_joint[k].is_some() {
-                if let Some(&b) = between
-                    .iter()
-                    .find(|&&b| !is_identity(&local_matrix(&nodes[b])))
-                {
+            let (joint, bad) = above[node].unwrap_or((None, None));
+            if let Some(j) = joint {
+                parent_joint[k] = skin_index[j];
+                if let Some(b) = bad {
                     return Err(self.skin_error(
                         skin,
                         format!(
-                            "node {b} lies between joint nodes {} and {node} but is not a joint of the skin and has a non-identity transform (not supported)",
-                            joint_nodes[parent_joint[k].unwrap_or(0)]
+                            "node {b} lies between joint nodes {j} and {node} but is not a joint of the skin and has a non-identity transform (not supported)"
                         ),
                     ));
                 }
             } else {
                 let parent = parents[node];
                 let world = match parent {
-                    Some(p) => self.world(document, parents, p),
+                    Some(p) => world_of(p),
                     None => Matrix4::identity(),
                 };
                 match &base {
                     None => base = Some((node, parent, world)),
                     Some((first, first_parent, first_world)) => {
                         let scale = first_world.abs().max().max(world.abs().max()).max(1.0);
-                        if (first_world - world).abs().max() > MATRIX_TOLERANCE * scale {
+                        // Not `>`: an overflowing world transform gives NaN.
+                        let close = (first_world - world).abs().max() <= MATRIX_TOLERANCE * scale;
+                        if !close {
                             return Err(self.skin_error(
                                 skin,
                                 format!(
@@ -702,8 +783,10 @@ impl CharacterLoader<'_> {
         for &node in &skel.joint_nodes {
             if skel.skin_index[node].is_some() {
                 let mut cur = parents[node];
+                // A node marked before had its ancestors up to the next
+                // joint marked too: stopping there keeps this linear.
                 while let Some(p) = cur {
-                    if skel.skin_index[p].is_some() {
+                    if skel.skin_index[p].is_some() || above[p] {
                         break;
                     }
                     above[p] = true;
@@ -801,14 +884,19 @@ impl CharacterLoader<'_> {
         let sampler = channel.sampler();
         let s = sampler.index();
         let (input, output) = (sampler.input(), sampler.output());
-        let times = gltf_accessor::read_scalars_f32(&input, self.buffers, "sampler input")
+        let times = gltf_accessor::read_scalars_f32(&input, self.buffers, "keyframe time")
             .map_err(|e| error(format!("sampler {s} input accessor {}: {e}", input.index())))?;
         if times.is_empty() {
             return Err(error(format!("sampler {s} has no keyframes")));
         }
-        if !times.iter().all(|t| t.is_finite()) || times.windows(2).any(|w| w[1] <= w[0]) {
+        // Finite: checked by the reader.
+        if let Some(k) = times.windows(2).position(|w| w[1] <= w[0]) {
             return Err(error(format!(
-                "sampler {s}: keyframe times are not finite and strictly increasing"
+                "sampler {s} input accessor {}: time {} ({}) is not after time {k} ({}); keyframe times must strictly increase",
+                input.index(),
+                k + 1,
+                times[k + 1],
+                times[k]
             )));
         }
         let interpolation = match sampler.interpolation() {
@@ -887,7 +975,8 @@ fn is_identity(m: &Matrix4<f64>) -> bool {
     (m - Matrix4::identity()).abs().max() <= MATRIX_TOLERANCE
 }
 
-/// A node's local transform as TRS; a `matrix` is decomposed.
+/// A node's local transform as TRS; a `matrix` is decomposed. The node passed
+/// `check_node_transform`.
 fn node_trs(node: &gltf::Node<'_>) -> Result<Trs, String> {
     match node.transform() {
         Transform::Decomposed {
@@ -895,16 +984,12 @@ fn node_trs(node: &gltf::Node<'_>) -> Result<Trs, String> {
             rotation: [x, y, z, w],
             scale,
         } => {
-            let q = Quaternion::new(w, x, y, z);
-            if !(q.norm() > 0.0 && q.norm().is_finite()) {
-                return Err(format!(
-                    "rotation {:?} is not a usable quaternion",
-                    [x, y, z, w]
-                ));
-            }
+            // Normalised in f64: the components are finite and not all zero
+            // (checked by `check_node_transform`), but their f32 norm may overflow.
+            let q = Quaternion::new(w, x, y, z).cast::<f64>();
             Ok(Trs {
                 translation: Vector3::from(translation),
-                rotation: UnitQuaternion::from_quaternion(q),
+                rotation: UnitQuaternion::from_quaternion(q).cast(),
                 scale: Vector3::from(scale),
             })
         }

@@ -26,9 +26,14 @@
 //!
 //! Every [`LoadError`] message is one line naming the file and the problem.
 //! Malformed content is an error, never a panic: offsets, counts, strides and
-//! node links are checked before use.
+//! node links are checked before use; every node transform on the way to a
+//! mesh must be finite, and positions, stored and placed, finite and within
+//! [`MAX_COORDINATE`]; the file, its JSON, its buffers and every decoded
+//! accessor are charged to a byte budget ([`LoadLimits`]) before they are
+//! allocated. [`load_static_mesh_from`] loads from bytes already in memory.
 
 use std::fmt;
+use std::io::Read;
 use std::path::{Path, PathBuf};
 
 use gltf::buffer::{Data, Source};
@@ -36,7 +41,8 @@ use gltf::mesh::{Mode, Semantic};
 use gltf::scene::Transform;
 use nalgebra::{Matrix4, Point3, Quaternion, UnitQuaternion, Vector3};
 
-use super::gltf_accessor;
+use super::gltf_accessor::{self, Buffers};
+use super::limits::{Budget, LoadLimits, MAX_COORDINATE};
 use crate::geometry::Point;
 use crate::mesh::{MeshError, TriMesh};
 
@@ -101,6 +107,16 @@ pub enum LoadError {
     #[error("{}: node hierarchy is not a forest: node {node} is reached twice", .path.display())]
     NodeGraph { path: PathBuf, node: usize },
 
+    #[error("{}: node {node}: {reason}", .path.display())]
+    Node {
+        path: PathBuf,
+        node: usize,
+        reason: String,
+    },
+
+    #[error("{}: {reason}", .path.display())]
+    Limit { path: PathBuf, reason: String },
+
     #[error("{}: mesh {mesh} primitive {primitive} has no POSITION attribute", .path.display())]
     MissingPosition {
         path: PathBuf,
@@ -132,13 +148,14 @@ pub enum LoadError {
     },
 
     #[error(
-        "{}: mesh {mesh} primitive {primitive}: vertex {vertex} has a non-finite position ({x}, {y}, {z})",
+        "{}: mesh {mesh} primitive {primitive}: accessor {accessor}: vertex {vertex} has a non-finite or out-of-range position ({x}, {y}, {z}); coordinates must be finite and at most {MAX_COORDINATE:e} in magnitude",
         .path.display()
     )]
     NonFinitePosition {
         path: PathBuf,
         mesh: MeshRef,
         primitive: usize,
+        accessor: usize,
         vertex: usize,
         x: f32,
         y: f32,
@@ -149,7 +166,7 @@ pub enum LoadError {
     NonFiniteTransform { path: PathBuf, node: usize },
 
     #[error(
-        "{}: node {node}, mesh {mesh} primitive {primitive}: vertex {vertex} is non-finite after the node's world transform",
+        "{}: node {node}, mesh {mesh} primitive {primitive}: vertex {vertex} is non-finite or beyond {MAX_COORDINATE:e} in magnitude after the node's world transform",
         .path.display()
     )]
     NonFiniteWorldPosition {
@@ -228,6 +245,8 @@ impl LoadError {
             | Self::Invalid { path, .. }
             | Self::Buffer { path, .. }
             | Self::NodeGraph { path, .. }
+            | Self::Node { path, .. }
+            | Self::Limit { path, .. }
             | Self::MissingPosition { path, .. }
             | Self::Accessor { path, .. }
             | Self::IndexOutOfRange { path, .. }
@@ -320,12 +339,22 @@ impl fmt::Display for SkippedChannel {
 /// Every triangle of the default scene (else the first scene, else all root
 /// nodes), node transforms applied, as one mesh. See the module docs.
 pub fn load_static_mesh(path: &Path) -> Result<(TriMesh, LoadReport), LoadError> {
-    let bytes = std::fs::read(path).map_err(|error| LoadError::Io {
-        path: path.to_owned(),
-        error,
-    })?;
-    let (document, blob) = parse(path, &bytes)?;
-    let buffers = load_buffers(path, &document, blob)?;
+    let limits = LoadLimits::default();
+    let bytes = read_file(path, &limits)?;
+    load_static_mesh_from(path, &bytes, &limits)
+}
+
+/// [`load_static_mesh`] of a file already read into `bytes`: `path` names it
+/// in messages and locates external buffers (relative to its folder).
+pub fn load_static_mesh_from(
+    path: &Path,
+    bytes: &[u8],
+    limits: &LoadLimits,
+) -> Result<(TriMesh, LoadReport), LoadError> {
+    let budget = Budget::new(limits);
+    charge_file(path, &budget, bytes.len())?;
+    let (document, blob) = parse(path, bytes, &budget)?;
+    let buffers = load_buffers(path, &document, blob, budget)?;
     let mut loader = Loader {
         path,
         buffers: &buffers,
@@ -361,12 +390,69 @@ pub fn load_static_mesh(path: &Path) -> Result<(TriMesh, LoadReport), LoadError>
     Ok((mesh, report))
 }
 
+/// The bytes of the file at `path`, refused past the budget before they are
+/// read (a path such as `/dev/zero` ends at the budget).
+pub(crate) fn read_file(path: &Path, limits: &LoadLimits) -> Result<Vec<u8>, LoadError> {
+    let io = |error| LoadError::Io {
+        path: path.to_owned(),
+        error,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    // Checked on the declared size, then on what was read (which may differ
+    // for devices and files that grow).
+    let fits = |bytes: usize| charge_file(path, &Budget::new(limits), bytes);
+    let declared = file.metadata().map(|m| m.len()).unwrap_or(0);
+    fits(usize::try_from(declared).unwrap_or(usize::MAX))?;
+    let mut bytes = Vec::new();
+    let most = u64::try_from(limits.max_bytes).unwrap_or(u64::MAX);
+    file.take(most.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(io)?;
+    fits(bytes.len())?;
+    Ok(bytes)
+}
+
+fn charge_file(path: &Path, budget: &Budget, bytes: usize) -> Result<(), LoadError> {
+    budget
+        .charge("the file", bytes, 1)
+        .map_err(|reason| LoadError::Limit {
+            path: path.to_owned(),
+            reason,
+        })
+}
+
+/// Charges what parsing `json` may allocate. A parsed object takes up to a
+/// few hundred bytes (an empty node `{}`, three bytes of text, about 220), so
+/// the text's length does not bound it: each `{` and `[` is charged 1 KiB,
+/// and every byte 4 (a one-digit index in an array becomes a `u32`, doubled
+/// while its vector grows).
+fn charge_json(path: &Path, budget: &Budget, json: &[u8]) -> Result<(), LoadError> {
+    let brackets = json.iter().filter(|&&b| b == b'{' || b == b'[').count();
+    let cost = brackets
+        .saturating_mul(1024)
+        .saturating_add(json.len().saturating_mul(4));
+    budget
+        .charge(
+            &format!(
+                "parsing the JSON ({} bytes, {brackets} objects and arrays)",
+                json.len()
+            ),
+            cost,
+            1,
+        )
+        .map_err(|reason| LoadError::Limit {
+            path: path.to_owned(),
+            reason,
+        })
+}
+
 /// Splits GLB or reads JSON, refuses required extensions, validates.
 pub(crate) fn parse(
     path: &Path,
     bytes: &[u8],
+    budget: &Budget,
 ) -> Result<(gltf::Document, Option<Vec<u8>>), LoadError> {
-    let (root, blob) = parse_root(path, bytes)?;
+    let (root, blob) = parse_root(path, bytes, budget)?;
     validate(path, &root)?;
     Ok((gltf::Document::from_json_without_validation(root), blob))
 }
@@ -376,6 +462,7 @@ pub(crate) fn parse(
 pub(crate) fn parse_root(
     path: &Path,
     bytes: &[u8],
+    budget: &Budget,
 ) -> Result<(gltf::json::Root, Option<Vec<u8>>), LoadError> {
     let not_gltf = |reason: String| LoadError::NotGltf {
         path: path.to_owned(),
@@ -391,10 +478,12 @@ pub(crate) fn parse_root(
         }
         let glb = gltf::Glb::from_slice(bytes)
             .map_err(|e| not_gltf(format!("bad GLB container: {e}")))?;
+        charge_json(path, budget, &glb.json)?;
         let root = gltf::json::deserialize::from_slice(&glb.json)
             .map_err(|e| not_gltf(format!("bad JSON chunk: {e}")))?;
         (root, glb.bin.map(|b| b.into_owned()))
     } else {
+        charge_json(path, budget, bytes)?;
         let root = gltf::json::deserialize::from_slice(bytes)
             .map_err(|e| not_gltf(format!("neither GLB nor glTF JSON ({e})")))?;
         (root, None)
@@ -470,11 +559,17 @@ pub(crate) fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadE
 
 /// The bytes of every buffer: the GLB binary chunk, a `data:` URI, or a file
 /// relative to the glTF file.
+/// Each buffer's bytes are charged to `budget` before they are read (the
+/// binary chunk is a copy of part of the file; a data URI decodes to 3/4 of
+/// its length, charged whole; an external file is read no further than the
+/// buffer's declared length), which is returned with them for decoding
+/// accessors.
 pub(crate) fn load_buffers(
     path: &Path,
     document: &gltf::Document,
     mut blob: Option<Vec<u8>>,
-) -> Result<Vec<Data>, LoadError> {
+    budget: Budget,
+) -> Result<Buffers, LoadError> {
     let base = path.parent().unwrap_or(Path::new("."));
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
@@ -484,10 +579,20 @@ pub(crate) fn load_buffers(
             reason: one_line(&reason),
         };
         let data = match buffer.source() {
-            Source::Bin => blob
-                .take()
-                .ok_or_else(|| fail("refers to the GLB binary chunk, which is missing".into()))?,
+            Source::Bin => {
+                let bin = blob.take().ok_or_else(|| {
+                    fail("refers to the GLB binary chunk, which is missing".into())
+                })?;
+                budget
+                    .charge("the binary chunk", bin.len(), 1)
+                    .map_err(&fail)?;
+                bin
+            }
             Source::Uri(uri) if uri.starts_with("data:") => {
+                // Decoding: about 3/4 of the URI's length.
+                budget
+                    .charge("decoding the data URI", uri.len(), 1)
+                    .map_err(&fail)?;
                 Data::from_source(Source::Uri(uri), None)
                     .map_err(|e| fail(format!("bad data URI: {e}")))?
                     .0
@@ -505,8 +610,14 @@ pub(crate) fn load_buffers(
                         .ok_or_else(|| fail(format!("bad percent-encoding in URI {uri:?}")))?;
                     base.join(relative)
                 };
-                std::fs::read(&file)
-                    .map_err(|e| fail(format!("cannot read {}: {e}", file.display())))?
+                budget
+                    .charge("reading the buffer", buffer.length(), 1)
+                    .map_err(&fail)?;
+                let mut data = Vec::new();
+                std::fs::File::open(&file)
+                    .and_then(|f| f.take(buffer.length() as u64).read_to_end(&mut data))
+                    .map_err(|e| fail(format!("cannot read {}: {e}", file.display())))?;
+                data
             }
         };
         if data.len() < buffer.length() {
@@ -518,7 +629,10 @@ pub(crate) fn load_buffers(
         }
         buffers.push(Data(data));
     }
-    Ok(buffers)
+    Ok(Buffers {
+        data: buffers,
+        budget,
+    })
 }
 
 /// `%XX` escapes decoded; `None` if an escape is malformed or the result is not UTF-8.
@@ -584,7 +698,7 @@ pub(crate) struct TrianglePrimitive {
 /// holds already (the total must fit in `u32`).
 pub(crate) fn read_triangle_primitive(
     path: &Path,
-    buffers: &[Data],
+    buffers: &Buffers,
     node: usize,
     mesh_ref: &MeshRef,
     primitive: &gltf::Primitive<'_>,
@@ -630,12 +744,13 @@ pub(crate) fn read_triangle_primitive(
     if let Some((vertex, &[x, y, z])) = stored
         .iter()
         .enumerate()
-        .find(|(_, v)| !v.iter().all(|c| c.is_finite()))
+        .find(|(_, v)| !v.iter().all(|c| c.abs() <= MAX_COORDINATE))
     {
         return Err(LoadError::NonFinitePosition {
             path: path.to_owned(),
             mesh: mesh_ref.clone(),
             primitive: p,
+            accessor: position_accessor.index(),
             vertex,
             x,
             y,
@@ -686,7 +801,7 @@ pub(crate) fn read_triangle_primitive(
 
 struct Loader<'a> {
     path: &'a Path,
-    buffers: &'a [Data],
+    buffers: &'a Buffers,
     positions: Vec<Point>,
     triangles: Vec<[u32; 3]>,
     report: LoadReport,
@@ -707,6 +822,11 @@ impl Loader<'_> {
         let mut meshes_seen = vec![false; document.meshes().len()];
         while let Some((node, parent)) = stack.pop() {
             self.report.nodes_visited += 1;
+            check_node_transform(&node).map_err(|reason| LoadError::Node {
+                path: self.path.to_owned(),
+                node: node.index(),
+                reason,
+            })?;
             let world = parent * local_matrix(&node);
             if let Some(mesh) = node.mesh() {
                 if let Some(seen) = meshes_seen.get_mut(mesh.index())
@@ -785,7 +905,7 @@ impl Loader<'_> {
                     f64::from(v[2]),
                 ));
                 let w = Point::new(w.x as f32, w.y as f32, w.z as f32);
-                if !w.iter().all(|c| c.is_finite()) {
+                if !w.iter().all(|c| c.abs() <= MAX_COORDINATE) {
                     return Err(LoadError::NonFiniteWorldPosition {
                         path: self.path.to_owned(),
                         node,
@@ -820,8 +940,55 @@ impl Loader<'_> {
     }
 }
 
-/// A node's local transform. Rotations are normalised (the spec requires unit
-/// quaternions); a zero quaternion yields NaN, reported as a non-finite transform.
+/// A node's local transform must be finite, and a rotation must be a
+/// quaternion that can be normalised (not zero, no overflowing length).
+pub(crate) fn check_node_transform(node: &gltf::Node<'_>) -> Result<(), String> {
+    let refuse =
+        |what: String, x: f32| Err(format!("{what} is {x}; only finite numbers are accepted"));
+    match node.transform() {
+        Transform::Matrix { matrix } => {
+            for (c, column) in matrix.iter().enumerate() {
+                for (r, &x) in column.iter().enumerate() {
+                    if !x.is_finite() {
+                        return refuse(
+                            format!("matrix entry {} (column {c}, row {r})", 4 * c + r),
+                            x,
+                        );
+                    }
+                }
+            }
+        }
+        Transform::Decomposed {
+            translation,
+            rotation,
+            scale,
+        } => {
+            for (what, values) in [
+                ("translation", &translation[..]),
+                ("rotation", &rotation[..]),
+                ("scale", &scale[..]),
+            ] {
+                if let Some((i, &x)) = values.iter().enumerate().find(|(_, x)| !x.is_finite()) {
+                    return refuse(format!("{what} component {i}"), x);
+                }
+            }
+            let norm = rotation
+                .iter()
+                .map(|&x| f64::from(x).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            if norm == 0.0 {
+                return Err(format!(
+                    "rotation {rotation:?} is the zero quaternion, not a rotation"
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A node's local transform (checked by [`check_node_transform`]). Rotations
+/// are normalised (the spec requires unit quaternions).
 pub(crate) fn local_matrix(node: &gltf::Node<'_>) -> Matrix4<f64> {
     match node.transform() {
         // glTF matrices are column-major: matrix[column][row].

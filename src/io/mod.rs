@@ -6,16 +6,20 @@
 //! | [`gltf_character`] | the skinned character of a glTF/GLB scene: skeleton, bind-pose mesh, influences, clips |
 //! | [`ply`] | writing triangle meshes as PLY (`run --dump-frame`) |
 //! | [`source`] | a character source: a glTF file or `generated:humanoid?vertices=N&seed=S` |
+//! | [`limits`] | [`LoadLimits`]: the byte budget a file may make the loaders allocate |
 //! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by both loaders) |
 
 mod gltf_accessor;
 pub mod gltf_character;
 pub mod gltf_static;
+pub mod limits;
 pub mod ply;
 pub mod source;
 
-pub use gltf_character::load_character;
+pub use gltf_character::{load_character, load_character_from};
 pub use gltf_static::{
     LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive, load_static_mesh,
+    load_static_mesh_from,
 };
+pub use limits::LoadLimits;
 pub use source::{CharacterSource, SourceError};

@@ -14,6 +14,10 @@
 //! narrow phase. Refit runs inside traversal; its share is measured with the
 //! CPU's time-stamp counter around each refit (a few nanoseconds each) and
 //! taken out of traversal. After the first frame nothing is allocated.
+//!
+//! On request ([`Pipeline::set_visit_log`]) the same traversal also marks the
+//! environment nodes it tests ([`super::visit_log`]); otherwise its log is a
+//! zero-sized no-op and the timed code is what it was.
 
 use std::time::Instant;
 
@@ -31,6 +35,7 @@ use crate::sphere_tree::{
     BuildParams, Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded,
 };
 
+use super::visit_log::{NoLog, TestedNodes, VisitLog};
 use super::{EnvironmentTree, LeafTest, Method};
 
 /// What one frame cost.
@@ -103,6 +108,8 @@ pub struct Pipeline {
     warmed_up: bool,
     /// Whether refit time is measured apart from traversal.
     time_refit: bool,
+    /// The environment nodes this frame's traversal tested, when asked for.
+    visits: Option<TestedNodes>,
     options: PipelineOptions,
 }
 
@@ -181,6 +188,7 @@ impl Pipeline {
             pairs: Vec::new(),
             warmed_up: false,
             time_refit: true,
+            visits: None,
             options,
         }
     }
@@ -208,10 +216,19 @@ impl Pipeline {
         let mut c = FrameCounters::default();
         let t0 = Instant::now();
         let tick0 = ticks();
-        let (stats, guard_tests, refit_ticks) = if self.time_refit {
-            self.broad_phase::<true>(buffers)
-        } else {
-            self.broad_phase::<false>(buffers)
+        let (stats, guard_tests, refit_ticks) = match (self.time_refit, self.visits.take()) {
+            (true, None) => self.broad_phase::<true, _>(buffers, &mut NoLog),
+            (false, None) => self.broad_phase::<false, _>(buffers, &mut NoLog),
+            (timed, Some(mut log)) => {
+                log.begin_frame();
+                let out = if timed {
+                    self.broad_phase::<true, _>(buffers, &mut log)
+                } else {
+                    self.broad_phase::<false, _>(buffers, &mut log)
+                };
+                self.visits = Some(log);
+                out
+            }
         };
         let elapsed = t0.elapsed().as_secs_f64() * 1e3;
         if self.time_refit {
@@ -292,12 +309,14 @@ impl Pipeline {
         c
     }
 
-    /// Traversal with on-demand refit (paper §3): fills `leaf_pairs`; returns
+    /// Traversal with on-demand refit (paper §3): fills `leaf_pairs` and
+    /// tells `log` the environment node of every sphere-sphere test; returns
     /// the traversal's counters, the plane-sphere tests made on the way down
     /// and, if `TIMED`, the time-stamp ticks spent refitting.
-    fn broad_phase<const TIMED: bool>(
+    fn broad_phase<const TIMED: bool, L: VisitLog>(
         &mut self,
         buffers: &PoseBuffers,
+        log: &mut L,
     ) -> (TraversalStats, u64, u64) {
         self.refit
             .begin_frame_with_base(&buffers.skin, &buffers.base);
@@ -313,6 +332,10 @@ impl Pipeline {
         self.leaf_pairs.clear();
         let leaf_pairs = &mut self.leaf_pairs;
         let envt = &self.environment;
+        let mut env_side = LoggedTree {
+            tree: &envt.tree,
+            log,
+        };
         let mut guard_tests = 0u64;
         let stats = if self.method.prunes_at_plane() {
             // Every character sphere paired with a big triangle's leaf must
@@ -327,20 +350,13 @@ impl Pipeline {
                     meets
                 }
             };
-            traverse_guarded(
-                &mut od,
-                &mut FixedTree(&envt.tree),
-                &mut self.workspace,
-                guard,
-                |p| leaf_pairs.push(p),
-            )
+            traverse_guarded(&mut od, &mut env_side, &mut self.workspace, guard, |p| {
+                leaf_pairs.push(p)
+            })
         } else {
-            traverse(
-                &mut od,
-                &mut FixedTree(&envt.tree),
-                &mut self.workspace,
-                |p| leaf_pairs.push(p),
-            )
+            traverse(&mut od, &mut env_side, &mut self.workspace, |p| {
+                leaf_pairs.push(p)
+            })
         };
         (stats, guard_tests, od.ticks)
     }
@@ -352,6 +368,23 @@ impl Pipeline {
         self.time_refit = on;
     }
 
+    /// Whether the traversal marks the environment nodes it tests (off by
+    /// default; a recorder turns it on). The counters are the same either
+    /// way; the traversal's time then includes one store per test.
+    pub fn set_visit_log(&mut self, on: bool) {
+        if !on {
+            self.visits = None;
+        } else if self.visits.is_none() {
+            self.visits = Some(TestedNodes::new(self.environment.tree.len()));
+        }
+    }
+
+    /// The environment nodes the last frame's traversal tested, if
+    /// [`Self::set_visit_log`] is on.
+    pub fn visit_log(&self) -> Option<&TestedNodes> {
+        self.visits.as_ref()
+    }
+
     /// Whether leaf pair `p` is answered by the plane-sphere test (a big
     /// triangle's division leaf, in a plane-sphere method) rather than by the
     /// triangle-triangle test.
@@ -361,13 +394,20 @@ impl Pipeline {
             && self.method.big_leaf_test() == LeafTest::PlaneSphere
     }
 
+    /// This frame's overlapping leaf pairs, as traversal handed them to the
+    /// narrow phase.
+    pub fn leaf_pairs(&self) -> &[LeafPair] {
+        &self.leaf_pairs
+    }
+
     /// This frame's skinned vertices (those the narrow phase read).
     pub fn skinned(&self) -> &OnDemandSkin {
         &self.skin
     }
 
-    /// Refits every character sphere for this frame's pose (for display: it
-    /// is not part of the measured work and changes no counter already taken).
+    /// Refits every character sphere for this frame's pose, overwriting the
+    /// frame's on-demand refit state (the whole-tree refit the `skinning`
+    /// bench measures; recordings never call it).
     pub fn refit_all(&mut self, buffers: &PoseBuffers) {
         Refitter {
             tree: &self.character_tree,
@@ -383,17 +423,25 @@ impl Pipeline {
 }
 
 /// A static tree as a [`Hierarchy`] through a shared borrow (so the leaf
-/// guard can read the environment while traversal runs).
-struct FixedTree<'a>(&'a SphereTree);
+/// guard can read the environment while traversal runs), telling `log` of
+/// every sphere-sphere test its nodes take part in.
+struct LoggedTree<'a, L> {
+    tree: &'a SphereTree,
+    log: &'a mut L,
+}
 
-impl Hierarchy for FixedTree<'_> {
+impl<L: VisitLog> Hierarchy for LoggedTree<'_, L> {
     #[inline]
     fn tree(&self) -> &SphereTree {
-        self.0
+        self.tree
     }
     #[inline]
     fn sphere(&mut self, id: NodeId) -> crate::geometry::Sphere {
-        self.0.nodes()[id.index()].sphere
+        self.tree.nodes()[id.index()].sphere
+    }
+    #[inline]
+    fn tested(&mut self, id: NodeId) {
+        self.log.tested(id);
     }
 }
 

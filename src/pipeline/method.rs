@@ -1,4 +1,8 @@
 //! The methods compared throughout (paper §5–6), one name for everything.
+//!
+//! Each variant's doc says which sentence of the paper it rests on; the
+//! variants marked *ours* are extensions the paper does not describe
+//! (docs/results.md, "Reading the plane-sphere method").
 
 use std::fmt;
 
@@ -22,27 +26,45 @@ use crate::big_triangle::DivisionKind;
 )]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
-    /// Every environment triangle is one leaf; triangle-triangle tests (§3).
+    /// Every environment triangle is one leaf, answered by the
+    /// triangle-triangle test. §3: "Once the algorithm finds two colliding
+    /// leaf-nodes ... the exact intersection test between primitives is
+    /// called."
     Original,
-    /// Big triangles get a full four-way hierarchy; leaves run the
-    /// triangle-triangle test against the big triangle (§5, "Sphere Division").
+    /// Big triangles get a full four-way hierarchy whose leaves run the
+    /// triangle-triangle test against the big triangle. §5, Sphere Division:
+    /// "the triangle is divided in four new triangles joining the
+    /// intermediate points of the edges ... the leaf-nodes ... point to the
+    /// big triangle T."
     SphereDivision,
-    /// Big triangles get a corner-tree; every character sphere paired with
-    /// a corner-tree leaf is tested against the big triangle's plane
-    /// (Algorithm 1) on the way down, and a limb whose sphere misses the
-    /// plane is not descended; at character leaves that test is the answer
-    /// (§5, the paper's method as we read it: docs/results.md).
+    /// Big triangles get a corner-tree; where a character leaf sphere meets a
+    /// corner-tree leaf, Algorithm 1 (the plane-sphere test) replaces the
+    /// triangle-triangle test. §5: "when the collision detection algorithm
+    /// reaches leaf-nodes and calls the plane-sphere test, we can be sure
+    /// that the sphere is in front of T"; "only triangles that have an edge
+    /// that matches one of T's edges are divided ... Corner-tree".
     PlaneSphere,
-    /// A full quaternary tree instead of the corner-tree, otherwise as
-    /// [`Method::PlaneSphere`]: the alternative §5 argues against.
+    /// A full quaternary tree instead of the corner-tree, plane-sphere test
+    /// at leaf pairs as `plane-sphere`. §5: "we can create a
+    /// quaternary tree inside the enclosing sphere S_T. Then, when the
+    /// collision detection algorithm reaches leaf-nodes and calls the
+    /// plane-sphere test ..." (the alternative the corner-tree improves on).
     QuaternaryPlaneSphere,
-    /// Corner-trees with the plane-sphere test at leaf pairs only (§5 read
-    /// literally): a character standing inside a corner-tree leaf's large
-    /// sphere is descended to every leaf.
-    PlaneSphereLeaf,
-    /// Corner-trees pruned against the big triangle's plane on the way down
-    /// as [`Method::PlaneSphere`], with triangle-triangle leaves: the exact
-    /// answer (same pairs as `original`) at a fraction of the cost.
+    /// Ours: `plane-sphere` plus every character sphere (not only
+    /// leaves) paired with a corner-tree leaf tested against the big
+    /// triangle's plane on the way down; a limb whose sphere misses the
+    /// plane is not descended. No sentence of the paper describes it; §6
+    /// ("decreases the number of tests made in both the broad phase and the
+    /// narrow phase") is what it tries to reproduce.
+    PlaneSpherePruned,
+    /// Ours: `quaternary-plane-sphere` with the pruning of
+    /// `plane-sphere-pruned`: checks §5's claim that the corner-tree
+    /// beats the quaternary tree ("one plane-sphere test (30 operations)"
+    /// against "four sphere-sphere tests") once both prune at the plane.
+    QuaternaryPlaneSpherePruned,
+    /// Ours: corner-trees pruned at the plane as `plane-sphere-pruned`,
+    /// with the triangle-triangle test at the leaves (§3's narrow phase):
+    /// the exact pairs of `original` at a fraction of the cost.
     PrunedTriTri,
 }
 
@@ -50,19 +72,20 @@ pub enum Method {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum LeafTest {
-    /// Tropp triangle-triangle test (96 operations).
+    /// Triangle-triangle test (96 operations in the paper's model).
     TriTri,
     /// Character leaf sphere against the big triangle's plane (30 operations).
     PlaneSphere,
 }
 
 impl Method {
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Original,
         Method::SphereDivision,
         Method::PlaneSphere,
         Method::QuaternaryPlaneSphere,
-        Method::PlaneSphereLeaf,
+        Method::PlaneSpherePruned,
+        Method::QuaternaryPlaneSpherePruned,
         Method::PrunedTriTri,
     ];
 
@@ -70,8 +93,10 @@ impl Method {
     pub fn division(self) -> Option<DivisionKind> {
         match self {
             Method::Original => None,
-            Method::SphereDivision | Method::QuaternaryPlaneSphere => Some(DivisionKind::Full),
-            Method::PlaneSphere | Method::PlaneSphereLeaf | Method::PrunedTriTri => {
+            Method::SphereDivision
+            | Method::QuaternaryPlaneSphere
+            | Method::QuaternaryPlaneSpherePruned => Some(DivisionKind::Full),
+            Method::PlaneSphere | Method::PlaneSpherePruned | Method::PrunedTriTri => {
                 Some(DivisionKind::Corner)
             }
         }
@@ -82,9 +107,10 @@ impl Method {
     pub fn big_leaf_test(self) -> LeafTest {
         match self {
             Method::Original | Method::SphereDivision | Method::PrunedTriTri => LeafTest::TriTri,
-            Method::PlaneSphere | Method::QuaternaryPlaneSphere | Method::PlaneSphereLeaf => {
-                LeafTest::PlaneSphere
-            }
+            Method::PlaneSphere
+            | Method::QuaternaryPlaneSphere
+            | Method::PlaneSpherePruned
+            | Method::QuaternaryPlaneSpherePruned => LeafTest::PlaneSphere,
         }
     }
 
@@ -93,7 +119,7 @@ impl Method {
     pub fn prunes_at_plane(self) -> bool {
         matches!(
             self,
-            Method::PlaneSphere | Method::QuaternaryPlaneSphere | Method::PrunedTriTri
+            Method::PlaneSpherePruned | Method::QuaternaryPlaneSpherePruned | Method::PrunedTriTri
         )
     }
 
@@ -104,7 +130,8 @@ impl Method {
             Method::SphereDivision => "sphere-division",
             Method::PlaneSphere => "plane-sphere",
             Method::QuaternaryPlaneSphere => "quaternary-plane-sphere",
-            Method::PlaneSphereLeaf => "plane-sphere-leaf",
+            Method::PlaneSpherePruned => "plane-sphere-pruned",
+            Method::QuaternaryPlaneSpherePruned => "quaternary-plane-sphere-pruned",
             Method::PrunedTriTri => "pruned-tri-tri",
         }
     }

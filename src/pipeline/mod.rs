@@ -1,15 +1,17 @@
-//! The collision-detection pipeline: methods, the environment hierarchy they
-//! build, and (later) the per-frame driver and its counters.
+//! The collision-detection pipeline: the methods, the environment hierarchy
+//! they build, and the per-frame driver with its counters.
 //!
 //! | file | what | paper |
 //! |---|---|---|
-//! | [`driver`] | one method's per-frame pipeline: pose, on-demand refit, traversal, narrow phase, counters | §3–6 |
-//! | [`method`] | [`Method`]: original, sphere division, plane-sphere, quaternary plane-sphere | §5, §6 |
+//! | [`driver`] | one method's per-frame pipeline: on-demand refit inside traversal, narrow phase, counters, stage times | §3–6 |
+//! | [`method`] | [`Method`]: original, sphere division, plane-sphere and quaternary plane-sphere (§5 as written), their pruned twins and pruned tri-tri (ours) | §5, §6 |
 //! | [`environment_tree`] | the environment's sphere tree with big-triangle hierarchies grafted in | §5 |
+//! | [`visit_log`] | which environment nodes the timed traversal tested (for recordings) | §3 |
 
 pub mod driver;
 pub mod environment_tree;
 pub mod method;
+pub mod visit_log;
 
 pub use environment_tree::{DEFAULT_THRESHOLD, EnvironmentTree, Threshold};
 pub use method::{LeafTest, Method};

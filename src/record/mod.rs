@@ -4,7 +4,6 @@
 //! |---|---|
 //! | [`layout`] | entity paths, colours, the per-level split of a tree |
 //! | [`blueprint`] | the layout a recording opens on |
-//! | [`visits`] | which environment nodes a frame's traversal tested (a replay) |
 //! | [`run_recorder`] | the scene once, then every frame of one method |
 //! | [`figures`] | the paper's Figures 1–3 as recordings |
 //! | [`target`] | where recordings go (files, a viewer) |
@@ -17,6 +16,5 @@ pub mod figures;
 pub mod layout;
 pub mod run_recorder;
 pub mod target;
-pub mod visits;
 
 pub use run_recorder::{RecordOptions, RunRecorder, SceneInfo};

@@ -5,18 +5,20 @@ use nalgebra::Matrix4;
 use rerun::RecordingStream;
 
 use super::layout::{self, Rgba};
-use super::visits::Visits;
 use crate::character::{Character, PoseBuffers};
 use crate::geometry::{Point, Sphere};
 use crate::mesh::TriMesh;
 use crate::pipeline::LeafTest;
 use crate::pipeline::driver::{FrameCounters, Pipeline};
+use crate::sphere_tree::NodeId;
+use crate::sphere_tree::refit::{RefitState, Refitter};
 
 /// What to put in a run's recording.
 #[derive(Clone, Copy, Debug)]
 pub struct RecordOptions {
     /// Every sphere of every level each frame, not only those the traversal
-    /// reached (the environment's once, as static data).
+    /// reached (the environment's once, as static data; the character's
+    /// refit by the recorder in its own state, for display).
     pub all_spheres: bool,
     /// Log the character's mesh every this many frames.
     pub mesh_every: u32,
@@ -53,7 +55,10 @@ pub struct RunRecorder {
     env_level_count: usize,
     /// Character leaf node of each character triangle (u32::MAX if left out).
     leaf_of_triangle: Vec<u32>,
-    visits: Visits,
+    /// With `all_spheres`: the recorder's own refit of the whole character
+    /// tree (the pipeline's refit state holds what the measured frame refit,
+    /// and is never touched here).
+    display_refit: Option<RefitState>,
     had_contact: bool,
     max_operations: u64,
     frames_logged: usize,
@@ -69,14 +74,17 @@ fn p3(p: &Point) -> [f32; 3] {
 impl RunRecorder {
     /// Logs the static scene (environment mesh, the character's triangles,
     /// series names, the scenario's description) and returns the recorder.
+    /// Turns on `pipeline`'s visit log: the environment spheres recorded as
+    /// tested are those its timed traversal marks.
     pub fn new(
         rec: RecordingStream,
         options: RecordOptions,
         info: &SceneInfo<'_>,
-        pipeline: &Pipeline,
+        pipeline: &mut Pipeline,
         character: &Character,
         env: &TriMesh,
     ) -> rerun::RecordingStreamResult<Self> {
+        pipeline.set_visit_log(true);
         let avatar_tree = &pipeline.character_tree.tree;
         let env_tree = &pipeline.environment.tree;
         let avatar_levels = layout::node_levels(avatar_tree);
@@ -148,7 +156,9 @@ impl RunRecorder {
             env_levels,
             env_level_count,
             leaf_of_triangle,
-            visits: Visits::default(),
+            display_refit: options
+                .all_spheres
+                .then(|| RefitState::new(&pipeline.character_tree, character.skeleton.len())),
             had_contact: false,
             max_operations: 0,
             frames_logged: 0,
@@ -179,14 +189,13 @@ impl RunRecorder {
     }
 
     /// Logs frame `k` (clip time `t`) after [`Pipeline::detect`] ran on it.
-    /// With `all_spheres`, refits the whole character tree first (outside the
-    /// measured work; the counters are already taken).
+    /// Reads what the measured frame produced; changes nothing in `pipeline`.
     #[allow(clippy::too_many_arguments)]
     pub fn log_frame(
         &mut self,
         k: usize,
         t: f32,
-        pipeline: &mut Pipeline,
+        pipeline: &Pipeline,
         buffers: &PoseBuffers,
         character: &Character,
         env: &TriMesh,
@@ -334,23 +343,38 @@ impl RunRecorder {
     /// The spheres of both trees per level and the sub-triangles reached.
     fn log_spheres(
         &mut self,
-        pipeline: &mut Pipeline,
+        pipeline: &Pipeline,
         buffers: &PoseBuffers,
     ) -> rerun::RecordingStreamResult<()> {
         let rec = &self.rec;
-        // Character spheres per level: those refit this frame, or all.
-        if self.options.all_spheres {
-            pipeline.refit_all(buffers);
-        }
-        let state = pipeline.refit_state();
+        // Character spheres per level: those the measured frame refit, or
+        // (with `all_spheres`) every sphere, refit here in our own state.
+        let measured = pipeline.refit_state();
         let avatar_tree = &pipeline.character_tree.tree;
         let all = self.options.all_spheres;
-        let by_level = spheres_by_level(
-            state.spheres.iter().copied(),
-            &self.avatar_levels,
-            self.avatar_level_count,
-            |i| all || state.is_fresh(crate::sphere_tree::NodeId(i as u32)),
-        );
+        let by_level = match self.display_refit.as_mut() {
+            Some(state) => {
+                state.begin_frame_with_base(&buffers.skin, &buffers.base);
+                Refitter {
+                    tree: &pipeline.character_tree,
+                    skin: &buffers.skin,
+                    state,
+                }
+                .refit_all(&buffers.base);
+                spheres_by_level(
+                    state.spheres.iter().copied(),
+                    &self.avatar_levels,
+                    self.avatar_level_count,
+                    |_| true,
+                )
+            }
+            None => spheres_by_level(
+                measured.spheres.iter().copied(),
+                &self.avatar_levels,
+                self.avatar_level_count,
+                |i| measured.is_fresh(NodeId(i as u32)),
+            ),
+        };
         for (level, (c, r)) in by_level.into_iter().enumerate() {
             rec.log(
                 layout::level_path(layout::AVATAR_SPHERES, level),
@@ -358,27 +382,30 @@ impl RunRecorder {
             )?;
         }
 
-        // Environment spheres the traversal tested, near the character.
+        // Environment spheres the timed traversal tested (its visit log),
+        // near the character.
         let env_tree = &pipeline.environment.tree;
-        self.visits.replay(avatar_tree, &state.spheres, env_tree);
+        let tested = pipeline
+            .visit_log()
+            .expect("RunRecorder::new turns the visit log on");
         // Only spheres up to half the character's size that meet its root
-        // sphere: the upper levels span the room and would hide the rest.
+        // sphere (refit every frame: the root pair is always tested): the
+        // upper levels span the room and would hide the rest.
         let root = if avatar_tree.is_empty() {
             Sphere {
                 center: Point::origin(),
                 radius: 0.0,
             }
         } else {
-            state.spheres[0]
+            measured.spheres[0]
         };
         let near = |s: &Sphere, max: f32| s.radius <= max * root.radius && s.overlaps(&root);
         if !all {
-            let tested = &self.visits.tested;
             let by_level = spheres_by_level(
                 env_tree.nodes().iter().map(|n| n.sphere),
                 &self.env_levels,
                 self.env_level_count,
-                |i| tested[i] && near(&env_tree.nodes()[i].sphere, 0.5),
+                |i| tested.is_tested(NodeId(i as u32)) && near(&env_tree.nodes()[i].sphere, 0.5),
             );
             for (level, (c, r)) in by_level.into_iter().enumerate() {
                 rec.log(
@@ -394,13 +421,10 @@ impl RunRecorder {
         // Sub-triangles of big triangles whose division nodes were tested
         // (those up to the character's size).
         let envt = &pipeline.environment;
-        let strips: Vec<[[f32; 3]; 4]> = self
-            .visits
-            .tested
-            .iter()
-            .enumerate()
-            .filter(|&(i, &v)| v && near(&envt.tree.nodes()[i].sphere, 1.0))
-            .filter_map(|(i, _)| envt.division_node[i])
+        let strips: Vec<[[f32; 3]; 4]> = tested
+            .tested_nodes()
+            .filter(|i| near(&envt.tree.nodes()[i.index()].sphere, 1.0))
+            .filter_map(|i| envt.division_node[i.index()])
             .map(|(d, n)| {
                 let t = envt.divisions[d as usize].pieces[n as usize].triangle;
                 [p3(&t.a), p3(&t.b), p3(&t.c), p3(&t.a)]

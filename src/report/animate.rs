@@ -1,21 +1,35 @@
 //! `cornertree inspect --animate`: play a clip, refit the character's spheres
 //! every frame, and measure containment, tightness and cost.
 //!
+//! The character can be placed at a translation (`offset`): posing then goes
+//! through [`PoseBuffers::place`], as in the run loop, so refit and skinning
+//! see the large translations of a character far from the origin.
+//!
 //! - **Containment**: every deformed vertex of every node's triangles must lie
-//!   in that node's refit sphere (tolerance `1e-5 × model size`).
+//!   in that node's refit sphere (tolerance `tolerance_rel × model size`, 0 by
+//!   default: refit accounts for `f32` rounding itself).
 //! - **Tightness**: refit radius over the radius of the minimal sphere (Welzl)
 //!   of the same deformed vertices, per node; mean and maximum.
 //! - **Cost per frame**: skinning; full refit of every node; on-demand refit,
 //!   i.e. the nodes a traversal against a finely tessellated floor under the
 //!   character reaches; and a rebuild of the tree from scratch.
+//!
+//! Finite keyframes can still pose a character out of range (a chain of
+//! large scales): every frame's skinning matrices must be finite and its
+//! skinned vertices within the loaders' [`MAX_COORDINATE`] before they are
+//! used, and a clip that would need more than [`AnimateOptions::max_frames`]
+//! frames is refused before the first one.
 
 use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::character::{Character, PoseBuffers, SkinningModel, UnknownClip};
+use nalgebra::{Matrix4, Vector3};
+
+use crate::character::{Character, Clip, PoseBuffers, SkinningModel, UnknownClip};
 use crate::geometry::Point;
 use crate::geometry::enclosing::points_sphere;
+use crate::io::limits::MAX_COORDINATE;
 use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::containment::VertexSets;
@@ -37,6 +51,34 @@ pub struct AnimateOptions {
     pub sample_every: usize,
     /// Containment tolerance as a fraction of the model size.
     pub tolerance_rel: f64,
+    /// Translation the character is placed at (metres), every frame.
+    pub offset: [f32; 3],
+    /// Most frames a clip may need at `fps`; longer clips are refused.
+    pub max_frames: usize,
+}
+
+/// Why a clip cannot be played.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum AnimateError {
+    #[error(transparent)]
+    UnknownClip(#[from] UnknownClip),
+    #[error(
+        "clip {clip:?} lasts {duration} s: at {fps} fps that is more than the {max} frames allowed (AnimateOptions::max_frames)"
+    )]
+    TooManyFrames {
+        clip: String,
+        duration: f32,
+        fps: f32,
+        max: usize,
+    },
+    #[error(
+        "clip {clip:?} at t = {time} s: {what}; the joint transforms take the character out of range"
+    )]
+    PoseOutOfRange {
+        clip: String,
+        time: f32,
+        what: String,
+    },
 }
 
 impl Default for AnimateOptions {
@@ -48,7 +90,9 @@ impl Default for AnimateOptions {
             dedup: true,
             build: BuildParams::default(),
             sample_every: 0,
-            tolerance_rel: 1e-5,
+            tolerance_rel: 0.0,
+            offset: [0.0; 3],
+            max_frames: 1_000_000,
         }
     }
 }
@@ -61,6 +105,11 @@ pub struct RefitReport {
     pub frames: usize,
     pub fps: f32,
     pub nodes: usize,
+    /// Translation the character was placed at (metres).
+    pub offset: [f32; 3],
+    /// `κ`: the refit's rounding margin per unit of `ρ` (the node's joints'
+    /// `‖A‖·(‖c‖ + r) + ‖t‖`); see `sphere_tree::refit`.
+    pub rounding_coefficient: f64,
     /// Vertex-in-sphere checks made.
     pub checks: u64,
     /// Deformed vertices found outside a refit sphere that should hold them.
@@ -86,8 +135,20 @@ pub struct RefitReport {
 pub fn animate(
     character: &Character,
     options: &AnimateOptions,
-) -> Result<RefitReport, UnknownClip> {
+) -> Result<RefitReport, AnimateError> {
     let clip = character.clip(options.clip.as_deref())?;
+    let frames = (f64::from(clip.duration()) * f64::from(options.fps)).floor() + 1.0;
+    // Not `>`: a NaN count (from a NaN fps) is refused too.
+    let fits = frames <= options.max_frames as f64;
+    if !fits {
+        return Err(AnimateError::TooManyFrames {
+            clip: clip.name.clone(),
+            duration: clip.duration(),
+            fps: options.fps,
+            max: options.max_frames,
+        });
+    }
+    let frames = frames as usize;
     let dedup = if options.dedup {
         dedup_edges(&character.mesh)
     } else {
@@ -97,7 +158,8 @@ pub fn animate(
     let sets = VertexSets::new(&ct.tree, &character.mesh);
     let size = character.mesh.size() as f64;
     let tolerance = options.tolerance_rel * size;
-    let base = *character.skeleton.base();
+    let offset = Vector3::from(options.offset);
+    let placement = Matrix4::new_translation(&offset);
 
     let mut buffers = PoseBuffers::new(character);
     let mut state = RefitState::new(&ct, character.skeleton.len());
@@ -106,10 +168,11 @@ pub fn animate(
 
     // Floor under the first frame's pose.
     buffers.pose(character, Some(clip), clip.start());
+    buffers.place(&placement);
     buffers.skin_all(character, options.model);
+    check_pose(clip, clip.start(), &buffers)?;
     let mut floor = floor_under(&buffers.positions, size as f32);
 
-    let frames = (clip.duration() * options.fps).floor() as usize + 1;
     let every = match options.sample_every {
         0 => frames.div_ceil(10).max(1),
         n => n,
@@ -120,6 +183,8 @@ pub fn animate(
         frames,
         fps: options.fps,
         nodes: ct.tree.len(),
+        offset: options.offset,
+        rounding_coefficient: ct.refit.rounding_coefficient(),
         checks: 0,
         violations: 0,
         tolerance,
@@ -140,11 +205,14 @@ pub fn animate(
         let t = clip.start() + k as f32 / options.fps;
         let t0 = Instant::now();
         buffers.pose(character, Some(clip), t);
+        buffers.place(&placement);
         buffers.skin_all(character, options.model);
         r.skinning_ms_per_frame += ms(t0);
+        check_pose(clip, t, &buffers)?;
 
+        let base = buffers.base;
         let t0 = Instant::now();
-        state.begin_frame(&character.skeleton, &buffers.skin);
+        state.begin_frame_with_base(&buffers.skin, &base);
         Refitter {
             tree: &ct,
             skin: &buffers.skin,
@@ -154,7 +222,7 @@ pub fn animate(
         r.full_refit_ms_per_frame += ms(t0);
 
         let t0 = Instant::now();
-        lazy.begin_frame(&character.skeleton, &buffers.skin);
+        lazy.begin_frame_with_base(&buffers.skin, &base);
         let mut od = OnDemand {
             refitter: Refitter {
                 tree: &ct,
@@ -180,8 +248,15 @@ pub fn animate(
             drop(rebuilt);
             r.sampled_frames += 1;
             for (i, s) in state.spheres.iter().enumerate() {
+                // Minimal spheres near the origin: subtracting the offset is
+                // exact where it dominates, and Welzl's f32 centre then rounds
+                // by the model's ulps, not the offset's.
                 scratch.clear();
-                scratch.extend(sets.of(i).iter().map(|&v| buffers.positions[v as usize]));
+                scratch.extend(
+                    sets.of(i)
+                        .iter()
+                        .map(|&v| buffers.positions[v as usize] - offset),
+                );
                 let tight = points_sphere(&scratch).radius as f64;
                 if tight > 1e-9 * size {
                     let ratio = s.radius as f64 / tight;
@@ -206,6 +281,46 @@ pub fn animate(
     Ok(r)
 }
 
+/// Every skinning matrix finite and every skinned vertex within
+/// [`MAX_COORDINATE`], the range the loaders accept for positions.
+fn check_pose(clip: &Clip, time: f32, buffers: &PoseBuffers) -> Result<(), AnimateError> {
+    let fail = |what: String| AnimateError::PoseOutOfRange {
+        clip: clip.name.clone(),
+        time,
+        what,
+    };
+    if let Some(j) = buffers
+        .skin
+        .iter()
+        .position(|m| !m.iter().all(|c| c.is_finite()))
+    {
+        return Err(fail(format!(
+            "the skinning matrix of joint {j} is not finite"
+        )));
+    }
+    if let Some((v, p)) = buffers
+        .positions
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !p.iter().all(|c| c.abs() <= MAX_COORDINATE))
+    {
+        return Err(fail(format!(
+            "skinned vertex {v} is at ({}, {}, {}), beyond {MAX_COORDINATE:e} in magnitude",
+            p.x, p.y, p.z
+        )));
+    }
+    Ok(())
+}
+
+fn bounds(positions: &[Point]) -> (Point, Point) {
+    let (mut lo, mut hi) = (positions[0], positions[0]);
+    for p in positions {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    (lo, hi)
+}
+
 fn ms(t0: Instant) -> f64 {
     t0.elapsed().as_secs_f64() * 1e3
 }
@@ -213,11 +328,7 @@ fn ms(t0: Instant) -> f64 {
 /// A square grid floor (Y up) just under the lowest vertex, twice the
 /// character's footprint, in cells of about 2% of the model size.
 fn floor_under(positions: &[Point], size: f32) -> SphereTree {
-    let (mut lo, mut hi) = (positions[0], positions[0]);
-    for p in positions {
-        lo = lo.inf(p);
-        hi = hi.sup(p);
-    }
+    let (lo, hi) = bounds(positions);
     let cx = 0.5 * (lo.x + hi.x);
     let cz = 0.5 * (lo.z + hi.z);
     let half = (hi.x - lo.x).max(hi.z - lo.z).max(1e-3 * size);

@@ -8,6 +8,7 @@
 //! | [`inspect`] | static mesh summary: counts, de-duplication, tree shape and bytes |
 //! | [`paper`] | the paper's published figures, printed beside ours and labelled |
 //! | [`run`] | per-frame counters per method and the Tables 2–3 style summary |
+//! | [`study`] | the plane-sphere experiment's table per scenario, the paper's column beside it |
 //! | [`tables`] | Table 1 and the environment hierarchies per method |
 
 pub mod animate;
@@ -16,4 +17,5 @@ pub mod kernel_inputs;
 pub mod kernels;
 pub mod paper;
 pub mod run;
+pub mod study;
 pub mod tables;

@@ -325,15 +325,30 @@ impl SummaryTable<'_> {
 
 impl fmt::Display for SummaryTable<'_> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let rows = self.rows();
+        // Each column as wide as its widest cell or name, two spaces apart.
+        let widths: Vec<usize> = self
+            .0
+            .iter()
+            .enumerate()
+            .map(|(i, m)| {
+                rows.iter()
+                    .map(|(_, cells)| cells[i].chars().count())
+                    .chain([m.method.name().len()])
+                    .max()
+                    .unwrap_or(0)
+                    + 2
+            })
+            .collect();
         write!(f, "{:<28}", "")?;
-        for m in self.0 {
-            write!(f, "{:>26}", m.method.name())?;
+        for (m, w) in self.0.iter().zip(&widths) {
+            write!(f, "{:>w$}", m.method.name())?;
         }
         writeln!(f)?;
-        for (label, cells) in self.rows() {
+        for (label, cells) in rows {
             write!(f, "{label:<28}")?;
-            for c in cells {
-                write!(f, "{c:>26}")?;
+            for (c, w) in cells.iter().zip(&widths) {
+                write!(f, "{c:>w$}")?;
             }
             writeln!(f)?;
         }

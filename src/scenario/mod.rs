@@ -45,6 +45,8 @@ pub struct Scenario {
     /// Big-triangle threshold in metres (longest edge).
     pub threshold: Real,
     pub recording: Recording,
+    /// `[environment] subdivide`, applied in order to the room once built.
+    pub subdivide: Vec<SubdivideObject>,
     /// Where `placement.gap.surface` was written, for messages of [`resolve()`].
     pub(crate) surface_at: Option<Location>,
 }
@@ -117,6 +119,21 @@ pub struct Gap {
     /// World yaw of the character; default: its +Z (forward) along the surface.
     #[serde(default)]
     pub yaw_degrees: Option<Real>,
+    /// Metres from the surface's middle along it (horizontally on a wall),
+    /// where the character's extent over the clip is centred; default 0.
+    #[serde(default)]
+    pub along: Real,
+}
+
+/// One entry of `[environment] subdivide`: an object's triangles split
+/// four-way at their edge midpoints `times` times (an experiment on how big
+/// surfaces are tessellated; docs/results.md).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SubdivideObject {
+    /// Object name in the environment (e.g. `"south wall"`).
+    pub object: String,
+    pub times: u32,
 }
 
 /// `[recording]`: what `run` puts in its recordings (docs/recordings.md).
@@ -279,6 +296,8 @@ struct RawEnvironment {
     seed: Option<u64>,
     vertices: Option<Spanned<i64>>,
     path: Option<Spanned<String>>,
+    #[serde(default)]
+    subdivide: Vec<SubdivideObject>,
 }
 
 #[derive(Deserialize)]
@@ -331,6 +350,7 @@ impl Scenario {
         // [environment]
         let env_span = raw.environment.span();
         let env = raw.environment.into_inner();
+        let subdivide = env.subdivide.clone();
         let environment = match env.kind {
             EnvKind::Museum | EnvKind::LivingRoom => {
                 if let Some(p) = &env.path {
@@ -444,12 +464,18 @@ impl Scenario {
             let g = pl.gap.expect("counted above");
             let span = g.span();
             let g = g.into_inner();
-            if !g.metres.is_finite() || g.yaw_degrees.is_some_and(|y| !y.is_finite()) {
-                return Err(err_at(
-                    span,
-                    "placement.gap.metres",
-                    "must be a finite number".into(),
-                ));
+            for (field, value) in [
+                ("placement.gap.metres", Some(g.metres)),
+                ("placement.gap.along", Some(g.along)),
+                ("placement.gap.yaw_degrees", g.yaw_degrees),
+            ] {
+                if value.is_some_and(|v| !v.is_finite()) {
+                    return Err(err_at(
+                        span.clone(),
+                        field,
+                        "must be a finite number".into(),
+                    ));
+                }
             }
             surface_at = Some(locate(text, span.start));
             Placement::Gap(g)
@@ -527,6 +553,7 @@ impl Scenario {
             dedup: raw.dedup.unwrap_or(true),
             threshold,
             recording,
+            subdivide,
             surface_at,
         })
     }
@@ -542,7 +569,18 @@ pub fn load_scenario(path: &Path) -> Result<Scenario, ScenarioError> {
 /// Loads `path` and resolves it against its own directory (relative asset
 /// paths are relative to the scenario file): what every command starts with.
 pub fn open_scenario(path: &Path) -> Result<Resolved, ScenarioError> {
-    let scenario = load_scenario(path)?;
+    open_scenario_with(path, |_| {})
+}
+
+/// [`open_scenario`] with the scenario changed by `edit` before it is
+/// resolved (command-line overrides that the placement depends on, such as
+/// the skinning model).
+pub fn open_scenario_with(
+    path: &Path,
+    edit: impl FnOnce(&mut Scenario),
+) -> Result<Resolved, ScenarioError> {
+    let mut scenario = load_scenario(path)?;
+    edit(&mut scenario);
     let base_dir = path.parent().map(PathBuf::from).unwrap_or_default();
     resolve(&scenario, &base_dir)
 }

@@ -10,7 +10,8 @@
 //! `α` makes the minimum over every frame and vertex of the signed distance to
 //! the plane equal the gap, `β` puts the lowest vertex over the clip on the
 //! floor (`y = 0`), `γ` centres the character's extent over the clip on the
-//! surface's extent along `t`. The placement is the same for every frame.
+//! surface's extent along `t`, moved by `along` metres. The placement is the
+//! same for every frame.
 
 use std::path::{Path, PathBuf};
 
@@ -26,7 +27,7 @@ use crate::pipeline::Method;
 use crate::pipeline::driver::{PipelineOptions, pose_frame};
 use crate::sphere_tree::BuildParams;
 
-use super::{EnvironmentSection, Placement, Recording, Scenario, ScenarioError};
+use super::{EnvironmentSection, Gap, Placement, Recording, Scenario, ScenarioError};
 
 /// A scenario made concrete.
 #[derive(Clone, Debug)]
@@ -220,6 +221,12 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
                 .0
         }
     };
+    let mut environment = environment;
+    for sub in &s.subdivide {
+        environment = environment
+            .subdivide_object(&sub.object, sub.times)
+            .map_err(|e| fail("environment.subdivide", e.to_string()))?;
+    }
     let clip_index = match (&s.character.clip, character.clips.is_empty()) {
         (None, true) => None,
         (name, _) => {
@@ -269,16 +276,7 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
             )
         }
         Placement::Gap(g) => {
-            let (iso, report) = place_at_gap(
-                s,
-                &character,
-                clip,
-                &times,
-                &environment,
-                &g.surface,
-                g.metres,
-                g.yaw_degrees,
-            )?;
+            let (iso, report) = place_at_gap(s, &character, clip, &times, &environment, g)?;
             (PlacementPlan::Fixed(iso), Some(report))
         }
     };
@@ -299,17 +297,15 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
     })
 }
 
-#[allow(clippy::too_many_arguments)]
 fn place_at_gap(
     s: &Scenario,
     character: &Character,
     clip: Option<&Clip>,
     times: &[Real],
     env: &Environment,
-    surface: &str,
-    metres: Real,
-    yaw_degrees: Option<Real>,
+    gap: &Gap,
 ) -> Result<(Isometry3<Real>, GapReport), ScenarioError> {
+    let (surface, metres, yaw_degrees) = (gap.surface.as_str(), gap.metres, gap.yaw_degrees);
     let field = "placement.gap.surface";
     let err = |msg: String| ScenarioError::new(&s.file, s.surface_at, Some(field), msg);
     let Some(object) = env.object(surface) else {
@@ -407,7 +403,7 @@ fn place_at_gap(
     } else {
         0.0
     };
-    let gamma = (smin + smax) * 0.5 - (tmin + tmax) * 0.5;
+    let gamma = (smin + smax) * 0.5 - (tmin + tmax) * 0.5 + gap.along as f64;
     let shift = n * alpha + u * beta + t * gamma;
     let iso = Isometry3::from_parts(
         Translation3::new(shift.x as Real, shift.y as Real, shift.z as Real),

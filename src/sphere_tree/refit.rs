@@ -6,7 +6,7 @@
 //! paper's enclosing sphere of the results (centre the mean, radius the
 //! largest distance) and adds `r·σ`, where `r` is the rest radius and `σ` the
 //! largest stretch (spectral norm) of the linear parts involved (1 for rigid
-//! joints).
+//! joints), and a margin for `f32` rounding (below).
 //!
 //! - **Paper model.** Per joint `a` among the node's vertices, with weights in
 //!   `[min, max]`: the corners are `(1 − min)·M_p + min·M_a` and the same at
@@ -20,11 +20,61 @@
 //!   (looser, still conservative).
 //! - **Root and extremity spheres** enclose their children's refit spheres.
 //!
+//! **Rounding.** Skinned vertices are `f32` results and a character far from
+//! the origin carries large translations (an `f32` ulp is about 1 mm at
+//! 10 km), so the rule above, which holds in exact arithmetic, is not enough.
+//! For a node with rest sphere `(c, r)` and joints ("slots") `j`, write
+//! `M_j = [A_j t_j]` (skin matrices, fourth row exactly `[0, 0, 0, 1]`, see
+//! `Skeleton::new`), `α_j = ‖A_j‖_F ≥ ‖|A_j|‖₂`, `τ_j = ‖t_j‖`,
+//! `ρ = α·(‖c‖ + r) + τ` with `α`, `τ` the largest `α_j`, `τ_j`, `σ` the largest
+//! spectral norm of the `A_j`, and `k` the number of slots. For a vertex `v`
+//! (so `‖v − c‖ ≤ r`) with `f32` weights `w_j ≥ 0` summing to `s`, let `v*` be
+//! `Σ_j w_j·M_j·(v, 1)` computed exactly from those `f32` numbers and `v̂` the
+//! skinning code's `f32` result.
+//!
+//! 1. *Skinning rounds.* The code has at most `n` roundings on any path
+//!    ([`LINEAR_ROUNDINGS`], [`PAPER_ROUNDINGS`]), so each coordinate of
+//!    `v̂ − v*` is at most `γ_n·Σ_j w_j·(|M_j|·|(v, 1)|)`, `γ_n = n·u/(1 − n·u)`,
+//!    `u = 2⁻²⁴`. The norm of `|A_j|·|v| + |t_j|` is at most `α_j‖v‖ + τ_j`
+//!    and `‖v‖ ≤ ‖c‖ + r`, hence `‖v̂ − v*‖ ≤ γ_n·s·ρ`.
+//! 2. *Weights do not sum to 1.* `|s − 1| ≤ δ`, the largest over the
+//!    character's vertices, measured when the rules are built (a joint listed
+//!    twice in one vertex's influences is summed with outward rounding). `w`
+//!    lies in the polytope `{min ≤ w ≤ max, Σ w = s}`, so it is a convex
+//!    combination of that polytope's vertices; each has every weight but one
+//!    at a bound, and the corner with the same bounds and the free weight
+//!    `1 − Σ others` was stored (the acceptance slack exceeds `δ`; the paper's
+//!    model: `w` between `min` and `max`, corners at both). Each such vertex
+//!    and its corner (weights summing to `S_i`, `|S_i − 1| ≤ ε`) differ in one
+//!    weight, by `|s − S_i| ≤ δ + ε`; the simplex corners of a large node
+//!    give `Σ_j w_j·M_j c = s·(a convex combination)`. So `Σ_j w_j·M_j c` lies
+//!    within `(δ + ε)·max_j ‖M_j c‖ ≤ (δ + ε)·ρ` of the hull `H` of the exact
+//!    corner points, and `v* = Σ_j w_j·M_j c + Σ_j w_j·A_j (v − c)` within a
+//!    further `s·σ·r ≤ (1 + δ)·σ·r`.
+//! 3. *Corners in `f64`.* Corner points are computed in `f64` from the `f32`
+//!    matrices, rest centre and `f64` weights (products of `f32` numbers are
+//!    exact in `f64`); each is within `(k + 8)·2⁻⁵²·ρ` of its exact value.
+//! 4. *Radius.* With `spread` the largest `f64` distance from the stored `f32`
+//!    centre to a computed corner, the hull `H` lies within
+//!    `spread + (k + 8)·2⁻⁵²·ρ` of the centre (distance to a point is convex),
+//!    so by 1–3 every `v̂` lies within
+//!    `spread + (1 + δ)·σ·r + κ·ρ`, `κ = γ_n·(1 + δ) + δ + ε + (k_max + 8)·2⁻⁵²`.
+//!    That sum is evaluated in `f64`, grown by the factor `1 + 10⁻¹²` (far above
+//!    its relative rounding) and rounded up to `f32`.
+//!
+//! Near the origin `ρ` is about the model size and the margin `κ·ρ` a few
+//! micrometres; at 10 km it is some millimetres, a few times the
+//! largest excess measured without it. Per node only `ρ` is new (the joints' `α_j`,
+//! `τ_j` are taken once a frame, `‖c‖ + r` is stored with the rule), and refit
+//! got cheaper on the whole: corner points are computed once instead of twice,
+//! and the final rounding up has no branch.
+//!
 //! On demand: a node is refit the first time a traversal asks for it in a frame
 //! (a frame stamp per node). [`Refitter::refit_all`] refits everything.
 
-use nalgebra::{Matrix3, Matrix4};
+use nalgebra::{Matrix3, Matrix4, Vector3};
 
+use crate::character::skinning::{LINEAR_ROUNDINGS, PAPER_ROUNDINGS};
 use crate::character::{Character, JointId, Skeleton, SkinningModel};
 use crate::geometry::enclosing::round_up;
 use crate::geometry::{Point, Sphere, Vector};
@@ -33,16 +83,33 @@ use super::character::{CharacterTree, Origin};
 use super::node::{NodeId, SphereTree};
 use super::traverse::Hierarchy;
 
+/// `f64` vectors: corner points and slot points of a refit.
+type V64 = Vector3<f64>;
+
+/// Unit roundoff of `f32` (round to nearest).
+const F32_UNIT: f64 = 1.0 / (1u64 << 24) as f64;
+
+/// `γ_n = n·u / (1 − n·u)` for `f32`: the relative error bound of `n`
+/// roundings in a row.
+fn gamma_f32(n: u32) -> f64 {
+    let nu = n as f64 * F32_UNIT;
+    nu / (1.0 - nu)
+}
+
+/// Relative slack covering the `f64` evaluation of a refit radius.
+const F64_SLACK: f64 = 1e-12;
+
 /// Term index standing for the skeleton's base frame (the parent of a root joint).
 pub(crate) const BASE: u16 = u16::MAX;
 
 /// Above this many joints in one sphere, simplex corners replace the polytope's.
 pub const MAX_POLYTOPE_JOINTS: usize = 8;
 
-/// `(joint, min weight, max weight)` over a vertex set, sorted by joint.
+/// `(joint, min weight, max weight)` over a vertex set, sorted by joint. The
+/// bounds are the vertices' `f32` weights (in `f64`), exactly.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct WeightSummary {
-    pub entries: Vec<(u16, f32, f32)>,
+    pub entries: Vec<(u16, f64, f64)>,
 }
 
 impl WeightSummary {
@@ -74,23 +141,26 @@ impl WeightSummary {
     }
 
     fn of_vertex(character: &Character, model: SkinningModel, v: usize) -> WeightSummary {
-        let mut entries: Vec<(u16, f32, f32)> = match model {
+        let mut entries: Vec<(u16, f64, f64)> = match model {
             SkinningModel::Paper => {
-                let w = character.paper.weight(v);
+                let w = character.paper.weight(v) as f64;
                 vec![(character.paper.joint(v).0, w, w)]
             }
             SkinningModel::Linear => character
                 .influences
                 .of(v)
-                .map(|(j, w)| (j.0, w, w))
+                .map(|(j, w)| (j.0, w as f64, w as f64))
                 .collect(),
         };
         entries.sort_by_key(|e| e.0);
-        // Repeated joints in one vertex's influences: add their weights.
+        // Repeated joints in one vertex's influences: add their weights (the
+        // skinning adds their terms). A rounded sum widens to the neighbours.
         entries.dedup_by(|b, a| {
             if a.0 == b.0 {
-                a.1 += b.1;
-                a.2 += b.2;
+                let (lo, exact) = two_sum(a.1, b.1);
+                a.1 = if exact { lo } else { lo.next_down() };
+                let (hi, exact) = two_sum(a.2, b.2);
+                a.2 = if exact { hi } else { hi.next_up() };
                 true
             } else {
                 false
@@ -98,6 +168,28 @@ impl WeightSummary {
         });
         WeightSummary { entries }
     }
+
+    /// `|Σ w − 1|` for vertex `v`'s weights as the skinning code uses them:
+    /// its influences (linear blend), or `fl(1 − w)` and `w` (paper model).
+    fn sum_error(character: &Character, model: SkinningModel, v: usize) -> f64 {
+        let sum = match model {
+            SkinningModel::Paper => {
+                let w = character.paper.weight(v);
+                (1.0 - w) as f64 + w as f64
+            }
+            SkinningModel::Linear => character.influences.of(v).map(|(_, w)| w as f64).sum(),
+        };
+        // Up to four f64 additions: a relative 2⁻⁵¹ covers their rounding.
+        (sum - 1.0).abs() + sum * f64::EPSILON * 2.0
+    }
+}
+
+/// `a + b` in `f64` and whether it is exact.
+fn two_sum(a: f64, b: f64) -> (f64, bool) {
+    let s = a + b;
+    let bb = s - a;
+    let err = (a - (s - bb)) + (b - bb);
+    (s, err == 0.0)
 }
 
 /// How one node is refit.
@@ -107,12 +199,14 @@ enum Rule {
     FromChildren,
     /// The node's joints ("slots") are `joints[jstart..jend]`; its `count`
     /// corners are weight vectors over those slots, stored one after the other
-    /// from `weights[wstart]`.
+    /// from `weights[wstart]`. `reach` is `‖c‖ + r` of the rest sphere, rounded
+    /// up (it bounds the length of every vertex under the node).
     Corners {
         jstart: u32,
         jend: u32,
         wstart: u32,
         count: u32,
+        reach: f32,
     },
 }
 
@@ -124,9 +218,15 @@ pub struct RefitData {
     /// stretch also bounds the node's radius.
     joints: Vec<u16>,
     /// Corner weights, one per slot, corner after corner.
-    weights: Vec<f32>,
+    weights: Vec<f64>,
     /// Most slots any node has (sizes the per-frame scratch).
     max_slots: usize,
+    /// Most corners any node has (sizes the per-frame scratch).
+    max_corners: usize,
+    /// `δ`: the largest `|Σ w − 1|` over the vertices' weights.
+    weight_sum_error: f64,
+    /// `κ`: the rounding margin of a node is `κ·ρ` (module doc).
+    rounding: f64,
 }
 
 impl RefitData {
@@ -138,6 +238,9 @@ impl RefitData {
         joint_trees: &[(JointId, SphereTree)],
     ) -> Self {
         let absent_is_zero = model == SkinningModel::Linear;
+        let delta = (0..character.mesh.vertex_count())
+            .map(|v| WeightSummary::sum_error(character, model, v))
+            .fold(0.0, f64::max);
         // Summaries per joint-tree node, children before parents.
         let sub: Vec<Vec<WeightSummary>> = joint_trees
             .iter()
@@ -171,7 +274,12 @@ impl RefitData {
             })
             .collect();
 
-        let mut data = RefitData::default();
+        let mut data = RefitData {
+            weight_sum_error: delta,
+            ..RefitData::default()
+        };
+        // `ε`: how far a corner's weights sum from 1.
+        let mut corner_sum_error = 0.0f64;
         for (i, o) in origin.iter().enumerate() {
             debug_assert!(i < tree.len());
             match *o {
@@ -182,17 +290,39 @@ impl RefitData {
                     let summary = &sub[t][n.index()];
                     let corners = match model {
                         SkinningModel::Paper => paper_corners(&character.skeleton, summary),
-                        SkinningModel::Linear => polytope_corners(summary),
+                        SkinningModel::Linear => polytope_corners(summary, delta),
                     };
-                    data.push_corners(&corners);
+                    for c in &corners {
+                        let sum: f64 = c.iter().map(|e| e.1).sum();
+                        let rounding = c.len() as f64
+                            * f64::EPSILON
+                            * c.iter().map(|e| e.1.abs()).sum::<f64>();
+                        corner_sum_error = corner_sum_error.max((sum - 1.0).abs() + rounding);
+                    }
+                    let rest = tree.node(NodeId(i as u32)).sphere;
+                    let c = rest.center.map(|x| x as f64);
+                    data.push_corners(&corners, round_up(c.coords.norm() + rest.radius as f64));
                 }
             }
         }
+        let roundings = match model {
+            SkinningModel::Linear => LINEAR_ROUNDINGS,
+            SkinningModel::Paper => PAPER_ROUNDINGS,
+        };
+        data.rounding = gamma_f32(roundings) * (1.0 + delta)
+            + delta
+            + corner_sum_error
+            + (data.max_slots + 8) as f64 * f64::EPSILON;
         data
     }
 
+    /// `κ`, the rounding margin per unit of `ρ` (see the module doc).
+    pub fn rounding_coefficient(&self) -> f64 {
+        self.rounding
+    }
+
     /// Adds a node whose corners are the given blends `[(joint, weight)]`.
-    fn push_corners(&mut self, corners: &[Vec<(u16, f32)>]) {
+    fn push_corners(&mut self, corners: &[Vec<(u16, f64)>], reach: f32) {
         let jstart = self.joints.len();
         for c in corners {
             for &(j, _) in c {
@@ -204,7 +334,7 @@ impl RefitData {
         let slots = self.joints.len() - jstart;
         let wstart = self.weights.len();
         for c in corners {
-            let mut w = vec![0.0f32; slots];
+            let mut w = vec![0.0f64; slots];
             for &(j, x) in c {
                 let at = self.joints[jstart..].iter().position(|&s| s == j).unwrap();
                 w[at] += x;
@@ -212,18 +342,21 @@ impl RefitData {
             self.weights.extend(w);
         }
         self.max_slots = self.max_slots.max(slots);
+        self.max_corners = self.max_corners.max(corners.len());
         self.rules.push(Rule::Corners {
             jstart: jstart as u32,
             jend: self.joints.len() as u32,
             wstart: wstart as u32,
             count: corners.len() as u32,
+            reach,
         });
     }
 }
 
 /// The paper's corners: per joint `a` with weights in `[lo, hi]`, the blends
-/// `(1 − lo)·M_p + lo·M_a` and `(1 − hi)·M_p + hi·M_a` (one when equal).
-fn paper_corners(skeleton: &Skeleton, s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
+/// `(1 − lo)·M_p + lo·M_a` and `(1 − hi)·M_p + hi·M_a` (one when equal;
+/// `1 − lo` is exact in `f64`).
+fn paper_corners(skeleton: &Skeleton, s: &WeightSummary) -> Vec<Vec<(u16, f64)>> {
     let mut out = Vec::new();
     for &(a, lo, hi) in &s.entries {
         let p = skeleton.parent(JointId(a)).map_or(BASE, |p| p.0);
@@ -237,7 +370,13 @@ fn paper_corners(skeleton: &Skeleton, s: &WeightSummary) -> Vec<Vec<(u16, f32)>>
 
 /// Vertices of the weight polytope `{lo ≤ w ≤ hi, Σ w = 1}` (every coordinate
 /// but one at a bound); the simplex corners beyond [`MAX_POLYTOPE_JOINTS`].
-fn polytope_corners(s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
+///
+/// The free coordinate is kept unclamped in `f64`, so every corner's weights
+/// sum to 1 up to `f64` rounding; it may leave its range by a slack that
+/// exceeds `delta` (the vertices' `|Σ w − 1|`), so that every vertex of
+/// `{lo ≤ w ≤ hi, Σ w = s}` with `|s − 1| ≤ delta` has a corner differing from
+/// it in the free coordinate only.
+fn polytope_corners(s: &WeightSummary, delta: f64) -> Vec<Vec<(u16, f64)>> {
     let e = &s.entries;
     let k = e.len();
     let simplex = || {
@@ -248,10 +387,11 @@ fn polytope_corners(s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
     if k > MAX_POLYTOPE_JOINTS {
         return simplex();
     }
-    let mut seen: Vec<Vec<(u16, f32)>> = Vec::new();
+    let slack = 1e-5 + 2.0 * delta;
+    let mut seen: Vec<Vec<(u16, f64)>> = Vec::new();
     for free in 0..k {
         for mask in 0u32..(1 << (k - 1)) {
-            let mut w = vec![0.0f32; k];
+            let mut w = vec![0.0f64; k];
             let mut bit = 0;
             let mut sum = 0.0f64;
             for (i, wi) in w.iter_mut().enumerate() {
@@ -259,16 +399,15 @@ fn polytope_corners(s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
                     continue;
                 }
                 *wi = if mask >> bit & 1 == 1 { e[i].2 } else { e[i].1 };
-                sum += *wi as f64;
+                sum += *wi;
                 bit += 1;
             }
             let f = 1.0 - sum;
-            let slack = 1e-5;
-            if f < e[free].1 as f64 - slack || f > e[free].2 as f64 + slack {
+            if f < e[free].1 - slack || f > e[free].2 + slack {
                 continue;
             }
-            w[free] = f.clamp(0.0, 1.0) as f32;
-            let corner: Vec<(u16, f32)> = e.iter().zip(&w).map(|(x, &wi)| (x.0, wi)).collect();
+            w[free] = f;
+            let corner: Vec<(u16, f64)> = e.iter().zip(&w).map(|(x, &wi)| (x.0, wi)).collect();
             if !seen.contains(&corner) {
                 seen.push(corner);
             }
@@ -278,6 +417,37 @@ fn polytope_corners(s: &WeightSummary) -> Vec<Vec<(u16, f32)>> {
     if seen.is_empty() { simplex() } else { seen }
 }
 
+/// Norms of one joint's skin matrix `M = [A t]`, taken once a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct JointNorms {
+    /// `σ`: the spectral norm of `A`, rounded up.
+    stretch: f64,
+    /// `α`: the Frobenius norm of `A` (at least the spectral norm of `|A|`).
+    frobenius: f64,
+    /// `τ`: the length of `t`.
+    translation: f64,
+}
+
+impl JointNorms {
+    /// The identity's norms (before the first frame).
+    const IDENTITY: JointNorms = JointNorms {
+        stretch: 1.0,
+        frobenius: 1.732_050_807_568_877_2,
+        translation: 0.0,
+    };
+
+    fn of(m: &Matrix4<f32>) -> Self {
+        let a = m.fixed_view::<3, 3>(0, 0);
+        let t = m.fixed_view::<3, 1>(0, 3);
+        let sq = |x: &f32| (*x as f64) * (*x as f64);
+        Self {
+            stretch: stretch(m) as f64,
+            frobenius: a.iter().map(sq).sum::<f64>().sqrt(),
+            translation: t.iter().map(sq).sum::<f64>().sqrt(),
+        }
+    }
+}
+
 /// Per-frame refit results and bookkeeping; reused across frames.
 #[derive(Clone, Debug)]
 pub struct RefitState {
@@ -285,12 +455,14 @@ pub struct RefitState {
     pub spheres: Vec<Sphere>,
     stamp: Vec<u32>,
     frame: u32,
-    /// Stretch of each joint's skin matrix; the last entry is the base frame's.
-    sigma: Vec<f32>,
+    /// Norms of each joint's skin matrix; the last entry is the base frame's.
+    norms: Vec<JointNorms>,
     /// Nodes refit this frame.
     pub refits: u64,
-    /// Slot centres of the node being refit.
-    scratch: Vec<Vector>,
+    /// Slot points `M_j·c` of the node being refit.
+    slot_points: Vec<V64>,
+    /// Corner points of the node being refit.
+    corner_points: Vec<V64>,
 }
 
 impl RefitState {
@@ -299,9 +471,10 @@ impl RefitState {
             spheres: tree.tree.nodes().iter().map(|n| n.sphere).collect(),
             stamp: vec![0; tree.tree.len()],
             frame: 0,
-            sigma: vec![1.0; joints + 1],
+            norms: vec![JointNorms::IDENTITY; joints + 1],
             refits: 0,
-            scratch: vec![Vector::zeros(); tree.refit.max_slots.max(1)],
+            slot_points: vec![V64::zeros(); tree.refit.max_slots.max(1)],
+            corner_points: vec![V64::zeros(); tree.refit.max_corners.max(1)],
         }
     }
 
@@ -318,10 +491,10 @@ impl RefitState {
             self.stamp.fill(0);
         }
         self.refits = 0;
-        for (s, m) in self.sigma.iter_mut().zip(skin) {
-            *s = stretch(m);
+        for (n, m) in self.norms.iter_mut().zip(skin) {
+            *n = JointNorms::of(m);
         }
-        *self.sigma.last_mut().unwrap() = stretch(base);
+        *self.norms.last_mut().unwrap() = JointNorms::of(base);
     }
 
     /// Whether node `id` has been refit this frame.
@@ -338,6 +511,25 @@ fn stretch(m: &Matrix4<f32>) -> f32 {
     round_up(s * (1.0 + 1e-6))
 }
 
+/// Smallest `f32` not below a radius `x ≥ 0` ([`round_up`] without a branch:
+/// whether `x` rounds down is data-dependent and mispredicts half the time).
+#[inline]
+fn radius_up(x: f64) -> f32 {
+    let r = x as f32;
+    f32::from_bits(r.to_bits() + ((r as f64) < x) as u32)
+}
+
+/// `A·c + t` for `M = [A t]` (its fourth row is `[0, 0, 0, 1]`), in `f64`.
+#[inline]
+fn apply_f64(m: &Matrix4<f32>, c: &V64) -> V64 {
+    let e = |r: usize, k: usize| m[(r, k)] as f64;
+    V64::new(
+        e(0, 0) * c.x + e(0, 1) * c.y + e(0, 2) * c.z + e(0, 3),
+        e(1, 0) * c.x + e(1, 1) * c.y + e(1, 2) * c.z + e(1, 3),
+        e(2, 0) * c.x + e(2, 1) * c.y + e(2, 2) * c.z + e(2, 3),
+    )
+}
+
 /// A character tree posed for one frame: answers traversal's sphere requests,
 /// refitting on first request.
 pub struct Refitter<'a> {
@@ -350,7 +542,7 @@ impl Refitter<'_> {
     /// Refits node `id` now (its children first where the rule needs them).
     pub fn refit_node(&mut self, id: NodeId, base: &Matrix4<f32>) -> Sphere {
         let rest = self.tree.tree.node(id);
-        let s = match self.tree.refit.rules[id.index()] {
+        let (center, radius) = match self.tree.refit.rules[id.index()] {
             Rule::FromChildren => {
                 let kids = rest.children();
                 let n = kids.len() as f32;
@@ -365,56 +557,72 @@ impl Refitter<'_> {
                         crate::geometry::sphere::distance_f64(&s.center, &center) + s.radius as f64
                     })
                     .fold(0.0, f64::max);
-                Sphere::new(center, round_up(r))
+                (center, radius_up(r * (1.0 + F64_SLACK)))
             }
             Rule::Corners {
                 jstart,
                 jend,
                 wstart,
                 count,
+                reach,
             } => {
                 let data = &self.tree.refit;
-                let c = rest.sphere.center;
+                let rest = rest.sphere;
+                let c = V64::new(
+                    rest.center.x as f64,
+                    rest.center.y as f64,
+                    rest.center.z as f64,
+                );
+                let r = rest.radius as f64;
                 let slots = &data.joints[jstart as usize..jend as usize];
                 let k = slots.len();
-                // Each slot's matrix applied to the rest centre, once.
-                let mut sigma = 0.0f32;
-                for (q, &j) in self.state.scratch.iter_mut().zip(slots) {
-                    let (m, st) = if j == BASE {
-                        (base, *self.state.sigma.last().unwrap())
+                // Each slot's matrix applied to the rest centre, once; the
+                // largest stretch and the norms bounding rounding (`ρ`).
+                let (mut sigma, mut alpha, mut tau) = (0.0f64, 0.0f64, 0.0f64);
+                for (q, &j) in self.state.slot_points.iter_mut().zip(slots) {
+                    let (m, n) = if j == BASE {
+                        (base, self.state.norms.last().unwrap())
                     } else {
-                        (&self.skin[j as usize], self.state.sigma[j as usize])
+                        (&self.skin[j as usize], &self.state.norms[j as usize])
                     };
-                    *q = m.transform_point(&c).coords;
-                    sigma = sigma.max(st);
+                    *q = apply_f64(m, &c);
+                    sigma = sigma.max(n.stretch);
+                    alpha = alpha.max(n.frobenius);
+                    tau = tau.max(n.translation);
                 }
-                let q = &self.state.scratch[..k];
+                let q = &self.state.slot_points[..k];
                 let weights = &data.weights[wstart as usize..wstart as usize + count as usize * k];
-                let corner = |w: &[f32]| -> Point {
-                    Point::from(
-                        q.iter()
-                            .zip(w)
-                            .fold(Vector::zeros(), |acc, (v, x)| acc + v * *x),
-                    )
-                };
-                let mut sum = Vector::zeros();
-                for w in weights.chunks_exact(k) {
-                    sum += corner(w).coords;
+                let corners = &mut self.state.corner_points[..count as usize];
+                let mut sum = V64::zeros();
+                for (p, w) in corners.iter_mut().zip(weights.chunks_exact(k)) {
+                    *p = q
+                        .iter()
+                        .zip(w)
+                        .fold(V64::zeros(), |acc, (v, x)| acc + v * *x);
+                    sum += *p;
                 }
-                let center = Point::from(sum / count as f32);
-                let mut spread = 0.0f64;
-                for w in weights.chunks_exact(k) {
-                    spread = spread.max(crate::geometry::sphere::distance_f64(&corner(w), &center));
-                }
-                // Relative slack for f32 rounding in the corner points.
-                let r = (spread + rest.sphere.radius as f64 * sigma as f64) * (1.0 + 1e-6);
-                Sphere::new(center, round_up(r))
+                let mean = sum * (1.0 / count as f64);
+                let center = Point::new(mean.x as f32, mean.y as f32, mean.z as f32);
+                let cw = V64::new(center.x as f64, center.y as f64, center.z as f64);
+                let spread = corners
+                    .iter()
+                    .map(|p| (p - cw).norm_squared())
+                    .fold(0.0f64, f64::max)
+                    .sqrt();
+                let rho = alpha * reach as f64 + tau;
+                let radius =
+                    spread + r * sigma * (1.0 + data.weight_sum_error) + data.rounding * rho;
+                (center, radius_up(radius * (1.0 + F64_SLACK)))
             }
         };
-        self.state.spheres[id.index()] = s;
+        // Field by field: a whole-sphere copy from a temporary stalled on
+        // store forwarding.
+        let slot = &mut self.state.spheres[id.index()];
+        slot.center = center;
+        slot.radius = radius;
         self.state.stamp[id.index()] = self.state.frame;
         self.state.refits += 1;
-        s
+        Sphere::new(center, radius)
     }
 
     #[inline]

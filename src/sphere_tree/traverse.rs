@@ -4,7 +4,8 @@
 //! reusable [`Workspace`], so a query allocates nothing once the stack has
 //! grown to its working size. At a pair of inner nodes the one with the larger
 //! radius is opened (ties open `a`); a leaf is never opened. Every sphere-sphere
-//! test is counted; pairs of overlapping leaves go to the narrow-phase callback.
+//! test is counted and reported to both hierarchies ([`Hierarchy::tested`]);
+//! pairs of overlapping leaves go to the narrow-phase callback.
 
 use crate::geometry::Sphere;
 
@@ -16,6 +17,11 @@ use super::node::{Node, NodeId, SphereTree};
 pub trait Hierarchy {
     fn tree(&self) -> &SphereTree;
     fn sphere(&mut self, id: NodeId) -> Sphere;
+    /// Called once for every sphere-sphere test node `id`'s sphere takes part
+    /// in, the root pair's included (a visit log; by default nothing, which
+    /// compiles to nothing).
+    #[inline]
+    fn tested(&mut self, _id: NodeId) {}
 }
 
 impl Hierarchy for SphereTree {
@@ -113,6 +119,8 @@ where
     }
     ws.stack.clear();
     stats.sphere_tests += 1;
+    a.tested(NodeId::ROOT);
+    b.tested(NodeId::ROOT);
     if a.sphere(NodeId::ROOT).overlaps(&b.sphere(NodeId::ROOT)) {
         ws.stack.push((NodeId::ROOT, NodeId::ROOT));
     }
@@ -136,6 +144,8 @@ where
                 if open_a {
                     for c in na.children() {
                         stats.sphere_tests += 1;
+                        a.tested(NodeId(c));
+                        b.tested(j);
                         let sc = a.sphere(NodeId(c));
                         if sc.overlaps(&sb) && guard(j, &sc) {
                             ws.stack.push((NodeId(c), j));
@@ -144,6 +154,8 @@ where
                 } else {
                     for c in nb.children() {
                         stats.sphere_tests += 1;
+                        a.tested(i);
+                        b.tested(NodeId(c));
                         if sa.overlaps(&b.sphere(NodeId(c))) && guard(NodeId(c), &sa) {
                             ws.stack.push((i, NodeId(c)));
                         }

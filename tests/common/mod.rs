@@ -1,6 +1,7 @@
 //! Generated test meshes shared by integration tests.
 #![allow(dead_code)]
 
+pub mod glb;
 pub mod rrd;
 
 use std::path::PathBuf;
@@ -178,6 +179,25 @@ pub fn random_pose(seed: u64, skeleton: &Skeleton, max_scale: f32) -> Vec<Trs> {
                     ),
                 scale: Vector3::new(s, s, s),
             }
+        })
+        .collect()
+}
+
+/// A random pose with non-uniform scales: every joint rotated, translated and
+/// scaled by a factor in `[1/max_scale, max_scale]` per axis (so skin matrices
+/// shear through the hierarchy).
+pub fn random_pose_nonuniform(seed: u64, skeleton: &Skeleton, max_scale: f32) -> Vec<Trs> {
+    let mut rng = SmallRng::seed_from_u64(seed);
+    let uniform = random_pose(rng.random(), skeleton, 1.0);
+    uniform
+        .into_iter()
+        .map(|t| Trs {
+            scale: Vector3::new(
+                rng.random_range(1.0 / max_scale..max_scale),
+                rng.random_range(1.0 / max_scale..max_scale),
+                rng.random_range(1.0 / max_scale..max_scale),
+            ),
+            ..t
         })
         .collect()
 }

@@ -121,3 +121,56 @@ impl Rrd {
         out
     }
 }
+
+/// A sphere as logged: centre and radius, as bit patterns (exact, sortable).
+pub type LoggedSphere = ([u32; 3], u32);
+
+fn bits(c: [f32; 3], r: f32) -> LoggedSphere {
+    (c.map(f32::to_bits), r.to_bits())
+}
+
+impl Rrd {
+    /// The spheres of an `Ellipsoids3D` entity at each frame (centres and the
+    /// first half-size), sorted.
+    pub fn ellipsoids(&self, entity: &str) -> BTreeMap<i64, Vec<LoggedSphere>> {
+        let cid = rerun::Ellipsoids3D::descriptor_centers().component;
+        let hid = rerun::Ellipsoids3D::descriptor_half_sizes().component;
+        let mut out: BTreeMap<i64, Vec<LoggedSphere>> = BTreeMap::new();
+        for c in self.chunks.iter().filter(|c| path_of(c) == entity) {
+            let times = c
+                .iter_component_indices("frame".into(), cid)
+                .map(|(t, _)| t.as_i64());
+            let centers = c.iter_component::<rerun::components::Translation3D>(cid);
+            let halves = c.iter_component::<rerun::components::HalfSize3D>(hid);
+            for ((t, cs), hs) in times.zip(centers).zip(halves) {
+                assert_eq!(cs.len(), hs.len(), "{entity} frame {t}");
+                let v = out.entry(t).or_default();
+                v.extend(cs.iter().zip(hs.iter()).map(|(c, h)| bits(c.0.0, h.0.0[0])));
+                v.sort_unstable();
+            }
+        }
+        out
+    }
+
+    /// The points (centres and radii) of a `Points3D` entity at each frame,
+    /// sorted.
+    pub fn points(&self, entity: &str) -> BTreeMap<i64, Vec<LoggedSphere>> {
+        let pid = rerun::Points3D::descriptor_positions().component;
+        let rid = rerun::Points3D::descriptor_radii().component;
+        let mut out: BTreeMap<i64, Vec<LoggedSphere>> = BTreeMap::new();
+        for c in self.chunks.iter().filter(|c| path_of(c) == entity) {
+            let times = c
+                .iter_component_indices("frame".into(), pid)
+                .map(|(t, _)| t.as_i64());
+            let centers = c.iter_component::<rerun::components::Position3D>(pid);
+            let radii = c.iter_component::<rerun::components::Radius>(rid);
+            for ((t, ps), rs) in times.zip(centers).zip(radii) {
+                assert_eq!(ps.len(), rs.len(), "{entity} frame {t}");
+                let v = out.entry(t).or_default();
+                v.extend(ps.iter().zip(rs.iter()).map(|(p, r)| bits(p.0.0, r.0.0)));
+                v.sort_unstable();
+            }
+        }
+        out
+    }
+}
