@@ -1,7 +1,7 @@
-//! Narrow-phase and traversal kernels, nanoseconds per test: our
-//! triangle-triangle test (paper §2, f64 interval test), the exact oracle,
-//! parry3d's test in f32 and f64, the sphere-sphere test and the plane-sphere
-//! test (§5). Inputs: 4,096 pairs of 1–4 cm triangles with a corner in a
+//! Narrow-phase and traversal kernels, nanoseconds per test: our two
+//! triangle-triangle tests (the Tropp test the paper names, §3, and the
+//! edge-crossing test), the exact oracle, parry3d's test in f32 and f64, the
+//! sphere-sphere test and the plane-sphere test (§5), plain and prepared. Inputs: 4,096 pairs of 1–4 cm triangles with a corner in a
 //! common 1 cm box (and as many sphere pairs), from fixed seeds; the bench
 //! prints how many triangle pairs intersect (a fair share of each answer, so
 //! branches are not predictable). Throughput is per test.
@@ -11,9 +11,8 @@
 use std::hint::black_box;
 
 use cornertree::geometry::exact::triangles_intersect_exact;
-use cornertree::geometry::plane_sphere::sphere_meets_plane;
-use cornertree::geometry::tri_tri::triangles_intersect;
-use cornertree::geometry::{Point, Sphere, Triangle, Vector};
+use cornertree::geometry::plane_sphere::{TrianglePlane, sphere_meets_plane};
+use cornertree::geometry::{Point, Sphere, Triangle, Vector, edge_crossing, tropp};
 use cornertree::truth::parry_reference::{
     parry_f64_triangles_intersect, parry_triangle, parry_triangles_intersect,
 };
@@ -71,8 +70,11 @@ fn kernels(c: &mut Criterion) {
 
     let mut g = c.benchmark_group("narrow_phase");
     g.throughput(Throughput::Elements(PAIRS as u64));
-    bench_test(&mut g, "tri-tri (ours)", &pairs, |(x, y)| {
-        triangles_intersect(x, y)
+    bench_test(&mut g, "tri-tri Tropp", &pairs, |(x, y)| {
+        tropp::triangles_intersect(x, y)
+    });
+    bench_test(&mut g, "tri-tri edge crossing", &pairs, |(x, y)| {
+        edge_crossing::triangles_intersect(x, y)
     });
     bench_test(&mut g, "tri-tri exact oracle", &pairs, |(x, y)| {
         triangles_intersect_exact(x, y)
@@ -99,6 +101,13 @@ fn kernels(c: &mut Criterion) {
         .collect();
     bench_test(&mut g, "plane-sphere", &plane_sphere, |(s, t)| {
         sphere_meets_plane(s, t)
+    });
+    let prepared: Vec<(Sphere, TrianglePlane)> = plane_sphere
+        .iter()
+        .map(|(s, t)| (*s, TrianglePlane::new(t)))
+        .collect();
+    bench_test(&mut g, "plane-sphere prepared", &prepared, |(s, p)| {
+        p.meets(s)
     });
     g.finish();
 }

@@ -3,6 +3,7 @@
 use std::process::ExitCode;
 
 mod bench_cmd;
+mod kernels_cmd;
 mod run_cmd;
 mod scaling_cmd;
 mod study_cmd;
@@ -60,6 +61,15 @@ enum Command {
     /// out by edge de-duplication among its three neighbours; a big triangle's
     /// enclosing sphere and its four sub-spheres; a corner-tree level by level.
     Figures(FiguresArgs),
+    /// For each kernel of the paper's operation model (sphere-sphere,
+    /// plane-sphere plain and prepared, the Tropp and the edge-crossing
+    /// triangle-triangle tests), run on a fixed seeded mix of disjoint,
+    /// near-touching and intersecting inputs: the operations the paper
+    /// charges, the operations really executed (arithmetic and comparisons,
+    /// counted by a counting number type: mean, min, max) and nanoseconds per
+    /// test. Timings are only meaningful in a release build
+    /// (`cargo run --release -- kernels`).
+    Kernels(kernels_cmd::KernelsArgs),
     /// The experiment behind docs/results.md: when does the plane-sphere
     /// method read as §5 writes it (Algorithm 1 where a character leaf meets
     /// a corner-tree leaf) need as few tests as Tables 2-3 report? Plays each
@@ -425,6 +435,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench_cmd::bench(args).and_then(|out| emit(&out)),
         Command::Scaling(args) => scaling_cmd::scaling(args).and_then(|out| emit(&out)),
         Command::Compare(args) => run_cmd::compare(args).and_then(|out| emit(&out)),
+        Command::Kernels(args) => kernels_cmd::kernels(args).and_then(|out| emit(&out)),
         Command::PlaneSphereStudy(args) => study_cmd::study(args).and_then(|out| emit(&out)),
     };
     match result {

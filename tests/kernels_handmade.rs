@@ -1,14 +1,18 @@
 //! Hand-made triangle pairs with known answers, checked on the exact oracle
-//! (`exact::classify`) and on the Tropp test (`tri_tri::triangles_intersect`),
-//! under every corner order and both argument orders.
+//! (`exact::classify`), on both floating-point kernels (the Tropp test and
+//! the edge-crossing test) and on their counting instantiations, under every
+//! corner order and both argument orders.
 
+use cornertree::geometry::counted::Counted;
 use cornertree::geometry::exact::{Contact, classify, triangles_intersect_exact};
-use cornertree::geometry::tri_tri::triangles_intersect;
-use cornertree::geometry::{Point, Triangle};
+use cornertree::geometry::{Point, Triangle, edge_crossing, tri_tri, tropp};
 
 use Contact::{Disjoint, Overlapping, Touching};
 
 type C = [f32; 3];
+
+/// A triangle-triangle test.
+type TriTest = fn(&Triangle, &Triangle) -> bool;
 
 fn tri(a: C, b: C, c: C) -> Triangle {
     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
@@ -37,11 +41,23 @@ fn check(name: &str, t1: Triangle, t2: Triangle, want: Contact) {
                     want != Disjoint,
                     "{name}: exact bool"
                 );
-                assert_eq!(
-                    triangles_intersect(&p, &q),
-                    want != Disjoint,
-                    "{name}: Tropp test on {p:?} / {q:?}"
-                );
+                let kernels: [(&str, TriTest); 5] = [
+                    ("Tropp", tropp::triangles_intersect),
+                    ("Tropp, counted", tropp::triangles_intersect_as::<Counted>),
+                    ("edge-crossing", edge_crossing::triangles_intersect),
+                    (
+                        "edge-crossing, counted",
+                        edge_crossing::triangles_intersect_as::<Counted>,
+                    ),
+                    ("narrow phase", tri_tri::triangles_intersect),
+                ];
+                for (kernel, test) in kernels {
+                    assert_eq!(
+                        test(&p, &q),
+                        want != Disjoint,
+                        "{name}: {kernel} test on {p:?} / {q:?}"
+                    );
+                }
             }
         }
     }
@@ -220,6 +236,21 @@ fn piercing() {
         tri([2.0, 2.0, -1.0], [2.0, 2.0, 1.0], [3.0, 1.0, 0.0]),
         Disjoint,
     );
+    // The base plane cuts these in the segment (0.8, -0.5)-(1.5, 0.3), which
+    // passes beside the corner (1, 0): only the segment's line separates.
+    check(
+        "plane crossed beside a corner",
+        base(),
+        tri([0.8, -0.5, -1.0], [0.8, -0.5, 1.0], [1.5, 0.3, 0.0]),
+        Disjoint,
+    );
+    // Cut in (0.8, -0.5)-(0.9, 0.3): in through one edge, out through another.
+    check(
+        "plane crossed across a corner",
+        base(),
+        tri([0.8, -0.5, -1.0], [0.8, -0.5, 1.0], [0.9, 0.3, 0.0]),
+        Overlapping,
+    );
 }
 
 #[test]
@@ -358,4 +389,27 @@ fn identical() {
     check("same triangle", base(), base(), Overlapping);
     let t = tri([0.1, -2.5, 3.0], [7.25, 1.0, -0.5], [-3.0, 4.0, 1.5]);
     check("same general triangle", t, t, Overlapping);
+}
+
+/// A corner of the first triangle on the second's face, at coordinates that
+/// are not round (a pair from `tests/tri_tri_agreement.rs`): seen from the
+/// first triangle's plane the contact is on its corner, where rounding
+/// decides; Tropp's test finds it with the roles swapped.
+#[test]
+fn corner_on_face_not_round() {
+    let corner_first = tri(
+        [-0.114985466, 0.58111477, -0.15904331],
+        [-0.012040138, 0.31498623, 0.29553318],
+        [0.28640366, 0.46795082, -0.045988083],
+    );
+    let face = tri(
+        [0.8990326, 0.36977386, -0.8082504],
+        [0.017082214, 0.66830444, 0.13300323],
+        [0.407753, -0.33746338, 0.58358],
+    );
+    assert_eq!(classify(&corner_first, &face), Touching);
+    for (p, q) in [(corner_first, face), (face, corner_first)] {
+        assert!(tropp::triangles_intersect(&p, &q));
+        assert!(edge_crossing::triangles_intersect(&p, &q));
+    }
 }

@@ -1,14 +1,16 @@
-//! Acceptance test: the floating-point Tropp test agrees with the exact oracle
-//! on 1,000,000 triangle pairs from a fixed seed, most of them built to be at
-//! or near contact. The only disagreements allowed are on pairs the oracle
-//! classifies as `Touching`; the counts are printed per generator
+//! Acceptance test: both floating-point triangle-triangle kernels (the Tropp
+//! test, `geometry::tropp`, and the edge-crossing test,
+//! `geometry::edge_crossing`) agree with the exact oracle on 1,000,000
+//! triangle pairs from a fixed seed, most of them built to be at or near
+//! contact. The only disagreements allowed are on pairs the oracle classifies
+//! as `Touching`; the counts are printed per generator and kernel
 //! (`cargo test --test tri_tri_agreement -- --nocapture`).
 
 use std::time::Instant;
 
 use cornertree::geometry::exact::{Contact, classify};
-use cornertree::geometry::tri_tri::triangles_intersect;
 use cornertree::geometry::{Point, Triangle};
+use cornertree::geometry::{edge_crossing, tropp};
 use nalgebra::{Point3, Vector3};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
@@ -373,12 +375,21 @@ fn generate(rng: &mut SmallRng, g: Gen) -> (Triangle, Triangle) {
     }
 }
 
+/// A triangle-triangle test.
+type TriTest = fn(&Triangle, &Triangle) -> bool;
+
+/// The kernels under test.
+const KERNELS: [(&str, TriTest); 2] = [
+    ("Tropp", tropp::triangles_intersect),
+    ("edge-crossing", edge_crossing::triangles_intersect),
+];
+
 #[derive(Default)]
 struct Stats {
     /// Oracle class counts: disjoint, touching, overlapping.
     class: [u64; 3],
-    /// Disagreements by oracle class.
-    disagree: [u64; 3],
+    /// Disagreements by kernel, then by oracle class.
+    disagree: [[u64; 3]; KERNELS.len()],
     /// Pairs with a degenerate triangle.
     degenerate: u64,
 }
@@ -392,7 +403,7 @@ fn idx(c: Contact) -> usize {
 }
 
 #[test]
-fn tropp_agrees_with_exact_oracle() {
+fn kernels_agree_with_exact_oracle() {
     let start = Instant::now();
     let mut rng = SmallRng::seed_from_u64(SEED);
     let mut stats: Vec<Stats> = GENS.iter().map(|_| Stats::default()).collect();
@@ -405,19 +416,21 @@ fn tropp_agrees_with_exact_oracle() {
             std::mem::swap(&mut t1, &mut t2);
         }
         let want = classify(&t1, &t2);
-        let got = triangles_intersect(&t1, &t2);
         let s = &mut stats[gi];
         s.class[idx(want)] += 1;
         if t1.area() == 0.0 || t2.area() == 0.0 {
             s.degenerate += 1;
         }
-        if got != (want != Contact::Disjoint) {
-            s.disagree[idx(want)] += 1;
-            if want != Contact::Touching && examples.len() < 10 {
-                examples.push(format!(
-                    "{:?}: oracle {want:?}, Tropp {got}: {t1:?} / {t2:?}",
-                    GENS[gi]
-                ));
+        for (k, (name, test)) in KERNELS.iter().enumerate() {
+            let got = test(&t1, &t2);
+            if got != (want != Contact::Disjoint) {
+                s.disagree[k][idx(want)] += 1;
+                if want != Contact::Touching && examples.len() < 10 {
+                    examples.push(format!(
+                        "{:?}: oracle {want:?}, {name} {got}: {t1:?} / {t2:?}",
+                        GENS[gi]
+                    ));
+                }
             }
         }
     }
@@ -428,55 +441,63 @@ fn tropp_agrees_with_exact_oracle() {
         elapsed.as_secs_f64()
     );
     println!(
-        "{:<16} {:>9} {:>9} {:>11} {:>7} | disagreements: {:>8} {:>8} {:>11}",
+        "{:<56} | disagreements with the oracle, by its class",
+        "oracle classes"
+    );
+    println!(
+        "{:<16} {:>9} {:>9} {:>11} {:>7} | {:>13} {:>8} {:>8} {:>11}",
         "generator",
         "disjoint",
         "touching",
         "overlapping",
         "degen",
+        "kernel",
         "disjoint",
         "touching",
         "overlapping"
     );
     let mut total = Stats::default();
+    let row = |name: String, s: &Stats| {
+        for (k, (kernel, _)) in KERNELS.iter().enumerate() {
+            let counts = if k == 0 {
+                format!(
+                    "{name:<16} {:>9} {:>9} {:>11} {:>7}",
+                    s.class[0], s.class[1], s.class[2], s.degenerate
+                )
+            } else {
+                String::new()
+            };
+            println!(
+                "{counts:<56} | {kernel:>13} {:>8} {:>8} {:>11}",
+                s.disagree[k][0], s.disagree[k][1], s.disagree[k][2]
+            );
+        }
+    };
     for (g, s) in GENS.iter().zip(&stats) {
-        println!(
-            "{:<16} {:>9} {:>9} {:>11} {:>7} | {:>23} {:>8} {:>11}",
-            format!("{g:?}"),
-            s.class[0],
-            s.class[1],
-            s.class[2],
-            s.degenerate,
-            s.disagree[0],
-            s.disagree[1],
-            s.disagree[2]
-        );
-        for k in 0..3 {
-            total.class[k] += s.class[k];
-            total.disagree[k] += s.disagree[k];
+        row(format!("{g:?}"), s);
+        for c in 0..3 {
+            total.class[c] += s.class[c];
+            for k in 0..KERNELS.len() {
+                total.disagree[k][c] += s.disagree[k][c];
+            }
         }
         total.degenerate += s.degenerate;
     }
-    println!(
-        "{:<16} {:>9} {:>9} {:>11} {:>7} | {:>23} {:>8} {:>11}",
-        "total",
-        total.class[0],
-        total.class[1],
-        total.class[2],
-        total.degenerate,
-        total.disagree[0],
-        total.disagree[1],
-        total.disagree[2]
-    );
+    row("total".into(), &total);
     for e in &examples {
         println!("  {e}");
     }
 
-    assert_eq!(
-        total.disagree[0], 0,
-        "Tropp test reports contact on disjoint pairs"
-    );
-    assert_eq!(total.disagree[2], 0, "Tropp test misses overlapping pairs");
+    for (k, (name, _)) in KERNELS.iter().enumerate() {
+        assert_eq!(
+            total.disagree[k][0], 0,
+            "{name} test reports contact on disjoint pairs"
+        );
+        assert_eq!(
+            total.disagree[k][2], 0,
+            "{name} test misses overlapping pairs"
+        );
+    }
     // Not vacuous: every class occurs in bulk, and the contact generators make contacts.
     assert!(
         total.class.iter().all(|&n| n >= 50_000),

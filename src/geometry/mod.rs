@@ -5,7 +5,13 @@
 //! | [`sphere`] | [`Sphere`] and the sphere-sphere test (10 operations) | §2, §6 |
 //! | [`triangle`] | [`Triangle`] | |
 //! | [`plane_sphere`] | Algorithm 1, the plane-sphere test (30 operations) | §5 |
-//! | [`tri_tri`] | Tropp et al. triangle-triangle test (96 operations) | §3 narrow phase |
+//! | [`tri_tri`] | the narrow phase's triangle-triangle test: the faster of the two below (96 operations) | §3 narrow phase |
+//! | [`tropp`] | Tropp, Tal and Shimshoni's triangle-triangle test | §3 narrow phase |
+//! | [`edge_crossing`] | edge-crossing triangle-triangle test (crossing edges of each against the other) | |
+//! | [`coplanar_degenerate`] | what both share: snapped plane offsets, coplanar pairs, zero-area triangles | |
+//! | [`scalar`] | [`scalar::Scalar`], the number type the kernels are generic over | §6 |
+//! | [`counted`] | [`counted::Counted`]: an `f64` counting the operations paid | §6 |
+//! | [`vec3`] | `[T; 3]` vectors over a `Scalar` | |
 //! | [`exact`] | exact triangle-triangle oracle on adaptive predicates | (reference) |
 //! | [`closest_point`] | closest point on a triangle, `f64` (plane-sphere false-positive reference) | (reference) |
 //! | [`enclosing`] | minimal enclosing spheres; the paper's sphere of spheres | §3 |
@@ -14,12 +20,18 @@
 //! contact widen to `f64` internally, where products of `f32` inputs are exact.
 
 pub mod closest_point;
+pub mod coplanar_degenerate;
+pub mod counted;
+pub mod edge_crossing;
 pub mod enclosing;
 pub mod exact;
 pub mod plane_sphere;
+pub mod scalar;
 pub mod sphere;
 pub mod tri_tri;
 pub mod triangle;
+pub mod tropp;
+pub mod vec3;
 
 pub use sphere::Sphere;
 pub use triangle::Triangle;
@@ -37,7 +49,8 @@ pub type Vector = nalgebra::Vector3<Real>;
 pub mod ops {
     /// Sphere-sphere overlap test.
     pub const SPHERE_SPHERE: u64 = 10;
-    /// Tropp et al. triangle-triangle test.
+    /// Triangle-triangle test (the paper's figure for Tropp et al.; charged
+    /// to either kernel, [`super::tropp`] or [`super::edge_crossing`]).
     pub const TRI_TRI: u64 = 96;
     /// Plane-sphere test of Algorithm 1.
     pub const PLANE_SPHERE: u64 = 30;

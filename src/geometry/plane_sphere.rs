@@ -6,6 +6,8 @@
 //! operation model (§5, §6) charges 30 basic operations.
 
 use super::closest_point::point_triangle_distance;
+use super::scalar::Scalar;
+use super::vec3::{V3, cross, dot, norm_squared, sub, widen, widen_triangle};
 use super::{Sphere, Triangle};
 
 /// Whether the closed ball meets the plane of the triangle (Algorithm 1):
@@ -15,40 +17,48 @@ use super::{Sphere, Triangle};
 /// sphere counts as meeting, consistent with the closed sets everywhere else.
 /// A degenerate (zero-area) triangle has no plane: `false`.
 pub fn sphere_meets_plane(s: &Sphere, t: &Triangle) -> bool {
-    TrianglePlane::new(t).meets(s)
+    sphere_meets_plane_as::<f64>(s, t)
+}
+
+/// [`sphere_meets_plane`] computed in `T` (e.g. to count its operations).
+#[inline]
+pub fn sphere_meets_plane_as<T: Scalar>(s: &Sphere, t: &Triangle) -> bool {
+    TrianglePlane::<T>::new(t).meets(s)
 }
 
 /// The plane of a triangle, prepared for [`sphere_meets_plane`]: `v0`, `p`
 /// and `‖p‖` of Algorithm 1, computed once for a static triangle. A test is
 /// then a subtraction, a dot product and a comparison, with the same
-/// arithmetic, so the same answers bit for bit.
+/// arithmetic, so the same answers bit for bit. Computed in `T` (`f64` in
+/// the pipeline).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TrianglePlane {
-    v0: nalgebra::Vector3<f64>,
-    p: nalgebra::Vector3<f64>,
+pub struct TrianglePlane<T = f64> {
+    v0: V3<T>,
+    p: V3<T>,
     /// `‖p‖`; 0 for a degenerate triangle (no sphere meets it).
-    p_norm: f64,
+    p_norm: T,
 }
 
-impl TrianglePlane {
+impl<T: Scalar> TrianglePlane<T> {
+    #[inline]
     pub fn new(t: &Triangle) -> Self {
-        let [v0, v1, v2] = t.vertices().map(|v| v.coords.cast::<f64>());
-        let p = (v1 - v0).cross(&(v2 - v0));
+        let [v0, v1, v2] = widen_triangle::<T>(t);
+        let p = cross(&sub(&v1, &v0), &sub(&v2, &v0));
         Self {
             v0,
             p,
-            p_norm: p.norm(),
+            p_norm: norm_squared(&p).sqrt(),
         }
     }
 
     /// [`sphere_meets_plane`] against this plane's triangle.
     #[inline]
     pub fn meets(&self, s: &Sphere) -> bool {
-        if self.p_norm == 0.0 {
+        if self.p_norm == T::zero() {
             return false;
         }
-        let n = s.center.coords.cast::<f64>() - self.v0;
-        self.p.dot(&n).abs() <= s.radius as f64 * self.p_norm
+        let n = sub(&widen::<T>(&s.center), &self.v0);
+        dot(&self.p, &n).abs() <= T::from_f32(s.radius) * self.p_norm
     }
 }
 

@@ -1,5 +1,7 @@
 //! Bounding sphere and the sphere-sphere overlap test.
 
+use super::scalar::Scalar;
+use super::vec3::{V3, norm_squared, sub, widen};
 use super::{Point, Real};
 
 /// A closed ball: every point within `radius` of `center`.
@@ -20,11 +22,22 @@ impl Sphere {
     /// Operation count (paper §2, §6): 10 — three subtractions, three
     /// multiplications and two additions for the squared distance, one addition
     /// and one multiplication for the squared sum of radii.
+    /// In `f32`, the storage type; [`Sphere::overlaps_as`] is the same test
+    /// in another [`Scalar`].
     #[inline]
     pub fn overlaps(&self, other: &Sphere) -> bool {
-        let d = self.center - other.center;
-        let r = self.radius + other.radius;
-        d.norm_squared() <= r * r
+        self.overlaps_as::<Real>(other)
+    }
+
+    /// [`Sphere::overlaps`] computed in `T` (e.g. to count its operations).
+    #[inline(always)]
+    pub fn overlaps_as<T: Scalar>(&self, other: &Sphere) -> bool {
+        balls_overlap(
+            &widen::<T>(&self.center),
+            T::from_f32(self.radius),
+            &widen::<T>(&other.center),
+            T::from_f32(other.radius),
+        )
     }
 
     /// Whether `p` lies in the ball, allowing `tolerance` beyond the radius.
@@ -46,6 +59,15 @@ impl Sphere {
     pub fn is_valid(&self) -> bool {
         self.center.iter().all(|c| c.is_finite()) && self.radius.is_finite() && self.radius >= 0.0
     }
+}
+
+/// Whether the closed balls `(c1, r1)` and `(c2, r2)` share a point:
+/// `‖c1 - c2‖² <= (r1 + r2)²`.
+#[inline(always)]
+pub fn balls_overlap<T: Scalar>(c1: &V3<T>, r1: T, c2: &V3<T>, r2: T) -> bool {
+    let d = sub(c1, c2);
+    let r = r1 + r2;
+    norm_squared(&d) <= r * r
 }
 
 /// Euclidean distance computed in `f64`.

@@ -3,6 +3,8 @@
 //! | file | what |
 //! |---|---|
 //! | [`animate`] | clip playback: refit containment, tightness, per-frame costs |
+//! | [`kernels`] | operations charged and paid per kernel, time per test (`cornertree kernels`) |
+//! | [`kernel_inputs`] | the seeded mixed inputs of `cornertree kernels` |
 //! | [`inspect`] | static mesh summary: counts, de-duplication, tree shape and bytes |
 //! | [`paper`] | the paper's published figures, printed beside ours and labelled |
 //! | [`run`] | per-frame counters per method and the Tables 2–3 style summary |
@@ -11,6 +13,8 @@
 
 pub mod animate;
 pub mod inspect;
+pub mod kernel_inputs;
+pub mod kernels;
 pub mod paper;
 pub mod run;
 pub mod study;
