@@ -3,13 +3,14 @@
 //! error paths and every influence/keyframe format.
 
 mod common;
-use common::{Scratch, base64};
+use common::Scratch;
+use common::gltf_builder::Builder;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use cornertree::character::{ChannelValues, Character, Interpolation, PoseBuffers, SkinningModel};
-use cornertree::io::{LoadError, load_character};
+use cornertree::io::{AttachedMesh, LoadError, load_character};
 use nalgebra::{Matrix4, Quaternion, UnitQuaternion, Vector3};
 
 fn asset(name: &str) -> PathBuf {
@@ -57,6 +58,9 @@ fn cesium_man_loads() {
     assert!(report.skipped_channels.is_empty());
     assert!(report.unskinned_meshes.is_empty());
     assert_eq!(report.skinned_instances, 1);
+    assert_eq!(report.skins, [0]);
+    assert!(report.attached_meshes.is_empty());
+    assert_eq!((report.moved_vertices, report.added_joint_slots), (0, 0));
     for (i, j) in c.skeleton.joints().iter().enumerate() {
         assert!(j.parent.is_none_or(|p| p.index() < i));
     }
@@ -308,73 +312,6 @@ fn cesium_man_skinning_matches_independent_matrix_palette() {
 // ---------------------------------------------------------------------------
 // Generated files.
 
-/// Accessors in one data-URI buffer, one buffer view each.
-#[derive(Default)]
-struct Builder {
-    buffer: Vec<u8>,
-    views: Vec<String>,
-    accessors: Vec<String>,
-}
-
-impl Builder {
-    fn add(
-        &mut self,
-        bytes: &[u8],
-        component: u32,
-        count: usize,
-        ty: &str,
-        normalized: bool,
-    ) -> usize {
-        while !self.buffer.len().is_multiple_of(4) {
-            self.buffer.push(0);
-        }
-        self.views.push(format!(
-            r#"{{"buffer": 0, "byteOffset": {}, "byteLength": {}}}"#,
-            self.buffer.len(),
-            bytes.len()
-        ));
-        self.buffer.extend_from_slice(bytes);
-        self.accessors.push(format!(
-            r#"{{"bufferView": {}, "componentType": {component}, "count": {count}, "type": "{ty}", "normalized": {normalized}}}"#,
-            self.views.len() - 1
-        ));
-        self.accessors.len() - 1
-    }
-
-    fn f32s(&mut self, values: &[f32], ty: &str, per: usize) -> usize {
-        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-        self.add(&bytes, 5126, values.len() / per, ty, false)
-    }
-
-    fn u8s(&mut self, values: &[u8], ty: &str, per: usize, normalized: bool) -> usize {
-        self.add(values, 5121, values.len() / per, ty, normalized)
-    }
-
-    fn u16s(&mut self, values: &[u16], ty: &str, per: usize, normalized: bool) -> usize {
-        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-        self.add(&bytes, 5123, values.len() / per, ty, normalized)
-    }
-
-    fn i16s(&mut self, values: &[i16], ty: &str, per: usize, normalized: bool) -> usize {
-        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
-        self.add(&bytes, 5122, values.len() / per, ty, normalized)
-    }
-
-    /// The whole file: `body` holds scene, nodes, meshes, skins, animations.
-    fn finish(&self, body: &str) -> String {
-        format!(
-            r#"{{"asset": {{"version": "2.0"}}, {body},
-  "buffers": [{{"byteLength": {}, "uri": "data:application/octet-stream;base64,{}"}}],
-  "bufferViews": [{}],
-  "accessors": [{}]}}"#,
-            self.buffer.len(),
-            base64(&self.buffer),
-            self.views.join(", "),
-            self.accessors.join(", ")
-        )
-    }
-}
-
 /// Two joints (node 1 at the origin, node 2 one unit up, its child), a
 /// two-triangle quad on mesh node 0. `joints`/`weights` are f32 weights and u16
 /// joints per vertex; `extra` is appended to the body (animations).
@@ -608,8 +545,9 @@ fn every_influence_and_keyframe_format() {
     assert_eq!(names, ["hip", "knee"]);
     assert_eq!(c.skeleton.joints()[1].parent.map(|p| p.index()), Some(0));
     assert_eq!(c.skeleton.joints()[0].inverse_bind, Matrix4::identity());
-    assert_eq!(c.mesh.vertex_count(), 6);
-    assert_eq!(c.mesh.triangle_count(), 2);
+    // Two skinned primitives and the prop, bound rigidly to the hip.
+    assert_eq!(c.mesh.vertex_count(), 9);
+    assert_eq!(c.mesh.triangle_count(), 3);
 
     let inf = |v: usize| -> Vec<(usize, f32)> {
         c.influences.of(v).map(|(j, w)| (j.index(), w)).collect()
@@ -634,15 +572,33 @@ fn every_influence_and_keyframe_format() {
         inf(4)
     );
     assert!(close(inf(5), &[(0, 1.0)]), "{:?}", inf(5));
+    for v in 6..9 {
+        assert!(close(inf(v), &[(0, 1.0)]), "{:?}", inf(v));
+        assert_eq!(c.mesh.positions()[v], c.mesh.positions()[v - 6]);
+    }
 
-    // The unskinned prop mesh and the prop/morph channels are reported.
-    assert_eq!(report.unskinned_meshes, [3]);
+    // The prop mesh is attached to the hip; the prop/morph channels are reported.
+    assert!(report.unskinned_meshes.is_empty());
+    assert_eq!(
+        report.attached_meshes,
+        [AttachedMesh {
+            node: 3,
+            mesh: 1,
+            joint_node: 1,
+            joint: "hip".into()
+        }]
+    );
     let skipped: Vec<(usize, &str)> = report
         .skipped_channels
         .iter()
         .map(|s| (s.node, s.property))
         .collect();
     assert_eq!(skipped, [(3, "translation"), (0, "weights")]);
+    assert!(
+        report.skipped_channels[0].reason.contains("rigid mesh"),
+        "{}",
+        report.skipped_channels[0]
+    );
 
     let clip = c.clip(Some("mixed")).unwrap();
     assert_eq!(clip.channels.len(), 2);

@@ -62,7 +62,7 @@ const AFFINE_TOLERANCE: f32 = 1e-4;
 /// row is further than [`AFFINE_TOLERANCE`] from it (or not a number). Exact
 /// affine matrices keep skinning free of a projective division (see
 /// [`PAPER_ROUNDINGS`](super::skinning::PAPER_ROUNDINGS)).
-fn exactly_affine(mut m: Matrix4<f32>) -> Option<Matrix4<f32>> {
+pub(crate) fn exactly_affine(mut m: Matrix4<f32>) -> Option<Matrix4<f32>> {
     let row = [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)] - 1.0];
     if row.iter().any(|x| x.is_nan() || x.abs() > AFFINE_TOLERANCE) {
         return None;

@@ -5,39 +5,50 @@
 //! parsing, buffer loading and accessor reading, and:
 //!
 //! - **Mesh.** Every node of the default scene (else the first scene, else all
-//!   root nodes) that has both a mesh and a skin; all must use the same skin.
-//!   Their triangle primitives are concatenated into one [`TriMesh`] with
-//!   positions as stored (bind space: the spec says the skinned node's own
-//!   transform is ignored). Meshes of non-skinned nodes are left out and listed
-//!   in [`LoadReport::unskinned_meshes`]; non-triangle primitives in
-//!   [`LoadReport::skipped`]; morph targets are ignored (base positions) with a
-//!   note. No skinned node at all is [`LoadError::NoSkin`].
-//! - **Skeleton.** The skin's `joints`, reordered so parents come before
-//!   children (the file's order is kept where it already does); `JOINTS_n` are
-//!   remapped accordingly. A joint's parent is its nearest ancestor node that is
-//!   a joint of the skin; a non-joint node between two joints must have the
-//!   identity transform (else an error). Rest pose = each joint node's local
-//!   TRS; a `matrix` is decomposed (shear, projection or zero scale is an
-//!   error). The transforms of joints and of every node above them must be
-//!   finite (named by node and component). Inverse bind matrices come from
-//!   the accessor (identity when absent) and must be finite; fewer than
-//!   joints is an error, extra ones are noted. The base is
-//!   the world transform of the root joints' parent node (identity for a scene
-//!   root); root joints whose parents have different world transforms are an
-//!   error.
+//!   root nodes) that has both a mesh and a skin, whatever its skin. Their
+//!   triangle primitives are concatenated into one [`TriMesh`] with positions
+//!   as stored (bind space: the spec says the skinned node's own transform is
+//!   ignored), or moved into the bind space of their joints' first skin when
+//!   their skin's inverse bind matrices differ ([`super::gltf_bind`]). A
+//!   mesh node without a skin at or below a joint (a prop in a hand) is bound
+//!   wholly to that joint, placed by the node transforms from the joint down
+//!   ([`LoadReport::attached_meshes`]); other meshes without a skin are left
+//!   out and listed in [`LoadReport::unskinned_meshes`]. Non-triangle
+//!   primitives are listed in [`LoadReport::skipped`]; morph targets are
+//!   ignored (base positions) with a note. No skinned node at all is
+//!   [`LoadError::NoSkin`].
+//! - **Skeleton.** One skeleton for all skins: the union of the `joints` of
+//!   every skin the skinned nodes use ([`LoadReport::skins`]; a joint listed by
+//!   several skins is one joint), in order of first listing, reordered so
+//!   parents come before children (the file's order is kept where it already
+//!   does); `JOINTS_n` are remapped accordingly, per skin. A joint's parent is
+//!   its nearest ancestor node that is a joint of some skin; a non-joint node
+//!   between two joints must have the identity transform (else an error).
+//!   Rest pose = each joint node's local TRS; a `matrix` is decomposed (shear,
+//!   projection or zero scale is an error). The transforms of joints and of
+//!   every node above them must be finite (named by node and component).
+//!   Inverse bind matrices come from each skin's accessor (identity when
+//!   absent) and must be finite and affine; fewer than joints is an error,
+//!   extra ones are noted. A joint takes the matrices of the first skin that
+//!   lists it; where another skin's differ and its vertices cannot be moved,
+//!   the joint gets added slots that follow it ([`super::gltf_bind`],
+//!   [`LoadReport::added_joint_slots`]). The base is the world transform of
+//!   the root joints' parent node (identity for a scene root); root joints
+//!   whose parents have different world transforms are an error. Errors about
+//!   a joint name the first skin that lists it.
 //! - **Influences.** `JOINTS_n`/`WEIGHTS_n` in every core format (joints u8 or
 //!   u16; weights float or normalized u8/u16). With more than one set, each
 //!   vertex keeps its four largest weights (renormalised by [`Influences`]);
 //!   vertices that lost a non-zero weight are counted in a note. A skinned
 //!   primitive without `JOINTS_0`/`WEIGHTS_0` is an error, as are joint indices
-//!   out of range, non-finite weights (named by accessor and element) or
+//!   out of range of its skin, non-finite weights (named by accessor and element) or
 //!   weights that do not sum to a positive number (named by mesh, primitive
 //!   and the primitive's own vertex index).
 //! - **Clips.** One per animation (`name`, else `"animation N"`). Translation,
 //!   rotation and scale channels of joints become [`Channel`]s with their
 //!   interpolation (STEP, LINEAR, CUBICSPLINE); rotations in float or any
 //!   normalized integer format are converted per the spec. Channels on other
-//!   nodes and morph-weight channels are skipped and listed in
+//!   nodes (a rigid mesh's own node included) and morph-weight channels are skipped and listed in
 //!   [`LoadReport::skipped_channels`]. A channel targeting a node that does not
 //!   exist, or a sampler whose output count does not match its input, is an
 //!   error. So is damaged keyframe data in a channel that is converted: a time
@@ -55,21 +66,23 @@
 use std::path::Path;
 
 use gltf::animation::{Interpolation as GltfInterpolation, Property};
-use gltf::mesh::Semantic;
+use gltf::mesh::{Mode, Semantic};
 use gltf::scene::Transform;
-use nalgebra::{Matrix3, Matrix4, Quaternion, Rotation3, UnitQuaternion, Vector3};
+use nalgebra::{Matrix3, Matrix4, Point3, Quaternion, Rotation3, UnitQuaternion, Vector3};
 
 use super::gltf_accessor::{self, Buffers};
+use super::gltf_bind::{Attachments, JointSlots, place};
 use super::gltf_static::{
-    LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble,
+    AttachedMesh, LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble,
     check_node_transform, load_buffers, local_matrix, one_line, parse_root, read_file,
     read_triangle_primitive, scene_roots, validate,
 };
-use super::limits::{Budget, LoadLimits};
+use super::limits::{Budget, LoadLimits, MAX_COORDINATE};
+use crate::character::skeleton::exactly_affine;
 use crate::character::skinning::SkinError;
 use crate::character::{
     Channel, ChannelValues, Character, Clip, Influences, Interpolation, Joint, JointId, Skeleton,
-    Trs,
+    SkeletonError, Trs,
 };
 use crate::geometry::Point;
 use crate::mesh::TriMesh;
@@ -181,6 +194,7 @@ impl CharacterLoader<'_> {
             self.reach(&mut reached, node.index())?;
         }
         let mut skinned: Vec<(gltf::Node, gltf::Mesh, gltf::Skin)> = Vec::new();
+        let mut unskinned: Vec<(gltf::Node, gltf::Mesh)> = Vec::new();
         let mut meshes_seen = vec![false; document.meshes().len()];
         while let Some(node) = stack.pop() {
             self.report.nodes_visited += 1;
@@ -194,14 +208,7 @@ impl CharacterLoader<'_> {
                 }
                 match node.skin() {
                     Some(skin) => skinned.push((node.clone(), mesh, skin)),
-                    None => {
-                        self.report.unskinned_meshes.push(node.index());
-                        self.report.notes.push(format!(
-                            "node {}: mesh {} is not skinned; left out of the character",
-                            node.index(),
-                            mesh.index()
-                        ));
-                    }
+                    None => unskinned.push((node.clone(), mesh)),
                 }
             }
             let children: Vec<gltf::Node> = node.children().collect();
@@ -210,69 +217,122 @@ impl CharacterLoader<'_> {
                 stack.push(child);
             }
         }
-        let Some((first_node, _, skin)) = skinned.first() else {
+        if skinned.is_empty() {
             return Err(LoadError::NoSkin {
                 path: self.path.to_owned(),
             });
-        };
-        let skin = skin.clone();
-        if let Some((other, _, other_skin)) =
-            skinned.iter().find(|(_, _, s)| s.index() != skin.index())
-        {
-            return Err(LoadError::SkinMismatch {
-                path: self.path.to_owned(),
-                first_node: first_node.index(),
-                first_skin: skin.index(),
-                second_node: other.index(),
-                second_skin: other_skin.index(),
-            });
+        }
+        // The skins of the skinned nodes, in order of first use.
+        let mut skins: Vec<gltf::Skin> = Vec::new();
+        let mut skin_of_node: Vec<usize> = Vec::with_capacity(skinned.len());
+        for (_, _, skin) in &skinned {
+            let s = match skins.iter().position(|s| s.index() == skin.index()) {
+                Some(s) => s,
+                None => {
+                    skins.push(skin.clone());
+                    skins.len() - 1
+                }
+            };
+            skin_of_node.push(s);
         }
         self.report.skinned_instances = skinned.len();
+        self.report.skins = skins.iter().map(|s| s.index()).collect();
 
-        let skel = self.skeleton(document, &skin, &parents)?;
+        let skel = self.skeleton(document, &skins, &parents)?;
 
-        // Mesh and influences.
-        let mut positions: Vec<Point> = Vec::new();
-        let mut triangles: Vec<[u32; 3]> = Vec::new();
-        let mut joints: Vec<[u16; 4]> = Vec::new();
-        let mut weights: Vec<[f32; 4]> = Vec::new();
-        let mut ranges: Vec<PrimitiveRange> = Vec::new();
-        for (node, mesh, _) in &skinned {
-            self.add_mesh(
-                node.index(),
-                mesh,
-                &skel,
-                &mut positions,
-                &mut triangles,
-                &mut joints,
-                &mut weights,
-                &mut ranges,
-            )?;
+        // Mesh and influences: skinned meshes, then rigid meshes below a joint.
+        let mut slots = JointSlots::new(&skel.skeleton);
+        let mut data = MeshData::default();
+        for ((node, mesh, _), &s) in skinned.iter().zip(&skin_of_node) {
+            self.add_skinned_mesh(node.index(), mesh, &skel, s, &mut slots, &mut data)?;
         }
-        if triangles.is_empty() {
+        let nodes: Vec<gltf::Node> = document.nodes().collect();
+        let mut attachments = Attachments::new(nodes.len());
+        let is_joint = |n: usize| skel.skin_index.get(n).is_some_and(Option::is_some);
+        let path = self.path;
+        let mut local = |n: usize| -> Result<Matrix4<f64>, LoadError> {
+            check_node_transform(&nodes[n]).map_err(|reason| LoadError::Node {
+                path: path.to_owned(),
+                node: n,
+                reason,
+            })?;
+            Ok(local_matrix(&nodes[n]))
+        };
+        for (node, mesh) in &unskinned {
+            match attachments.of(node.index(), &parents, &is_joint, &mut local)? {
+                Some((joint_node, frame)) => self.add_rigid_mesh(
+                    node.index(),
+                    mesh,
+                    joint_node,
+                    &frame,
+                    &skel,
+                    &mut slots,
+                    &mut data,
+                )?,
+                None => {
+                    self.report.unskinned_meshes.push(node.index());
+                    self.report.notes.push(format!(
+                        "node {}: mesh {} is not skinned and hangs from no joint; left out of the character",
+                        node.index(),
+                        mesh.index()
+                    ));
+                }
+            }
+        }
+        if data.triangles.is_empty() {
             return Err(LoadError::NoTriangles {
                 path: self.path.to_owned(),
                 primitives: self.report.primitives,
                 skipped: self.report.skipped.len(),
             });
         }
-        self.report.vertices = positions.len();
-        self.report.triangles = triangles.len();
-        let joint_count = skel.skeleton.len();
+        self.report.vertices = data.positions.len();
+        self.report.triangles = data.triangles.len();
+        self.report.added_joint_slots = slots.added();
+        let skeleton = slots
+            .finish(skel.skeleton.clone())
+            .map_err(|e| self.skin_error(&skins[0], e.to_string()))?;
+        if skins.len() > 1 {
+            self.report.notes.push(format!(
+                "{} merged into one skeleton of {} joints",
+                skins_label(&self.report.skins),
+                skel.skeleton.len()
+            ));
+        }
+        if self.report.moved_vertices > 0 {
+            self.report.notes.push(format!(
+                "{} vertices moved into the bind space of their joints' first skin (their own skin's inverse bind matrices differ from it by one transform)",
+                self.report.moved_vertices
+            ));
+        }
+        if slots.added() > 0 {
+            self.report.notes.push(format!(
+                "{} joint slot(s) added for inverse bind matrices that differ from their joint's first skin (each follows its joint)",
+                slots.added()
+            ));
+        }
+        let joint_count = skeleton.len();
+        let MeshData {
+            positions,
+            triangles,
+            joints,
+            weights,
+            ranges,
+        } = data;
         let influences = Influences::new(joints, weights, joint_count)
-            .map_err(|error| self.influence_error(&ranges, &skin, joint_count, error))?;
+            .map_err(|error| self.influence_error(&ranges, &skins[0], joint_count, error))?;
         let mesh = TriMesh::new(positions, triangles).map_err(|error| LoadError::Mesh {
             path: self.path.to_owned(),
             error,
         })?;
 
-        let clips = self.clips(document, &skel, &parents)?;
+        let clips = self.clips(document, &skel, &parents, joint_count)?;
         let name = self
             .path
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "character".to_owned());
-        Ok(Character::new(name, skel.skeleton, mesh, influences, clips))
+        Ok(Character::new(name, skeleton, mesh, influences, clips))
     }
 
     fn reach(&self, reached: &mut [bool], node: usize) -> Result<(), LoadError> {
@@ -339,43 +399,75 @@ impl CharacterLoader<'_> {
         }
     }
 
+    /// The one skeleton of `skins` (the skins of the skinned nodes, in order
+    /// of first use): the union of their joints.
     fn skeleton(
         &mut self,
         document: &gltf::Document,
-        skin: &gltf::Skin<'_>,
+        skins: &[gltf::Skin<'_>],
         parents: &[Option<usize>],
     ) -> Result<SkeletonMap, LoadError> {
         let nodes: Vec<gltf::Node> = document.nodes().collect();
-        let joint_nodes: Vec<usize> = skin.joints().map(|n| n.index()).collect();
-        if joint_nodes.is_empty() {
-            return Err(self.skin_error(skin, "has no joints".into()));
+        // The union of the skins' joints in order of first listing: node →
+        // union index, and which (skin, entry) listed each joint first.
+        let mut skin_index: Vec<Option<usize>> = vec![None; nodes.len()];
+        let mut joint_nodes: Vec<usize> = Vec::new();
+        let mut first_listed: Vec<(usize, usize)> = Vec::new();
+        let mut listed_in: Vec<Option<(usize, usize)>> = vec![None; nodes.len()];
+        let mut skin_entries: Vec<Vec<usize>> = Vec::with_capacity(skins.len());
+        for (s, skin) in skins.iter().enumerate() {
+            let entries: Vec<usize> = skin.joints().map(|n| n.index()).collect();
+            if entries.is_empty() {
+                return Err(self.skin_error(skin, "has no joints".into()));
+            }
+            if entries.len() > u16::MAX as usize {
+                return Err(self.skin_error(
+                    skin,
+                    format!("has {} joints; at most 65535 are supported", entries.len()),
+                ));
+            }
+            let mut unions = Vec::with_capacity(entries.len());
+            for (k, &node) in entries.iter().enumerate() {
+                let slot = listed_in.get_mut(node).ok_or_else(|| {
+                    self.skin_error(
+                        skin,
+                        format!("joint {k} is node {node}, which does not exist"),
+                    )
+                })?;
+                if let Some((s0, first)) = *slot
+                    && s0 == s
+                {
+                    return Err(self.skin_error(
+                        skin,
+                        format!("node {node} is listed twice in joints (entries {first} and {k})"),
+                    ));
+                }
+                *slot = Some((s, k));
+                let u = match skin_index[node] {
+                    Some(u) => u,
+                    None => {
+                        skin_index[node] = Some(joint_nodes.len());
+                        joint_nodes.push(node);
+                        first_listed.push((s, k));
+                        joint_nodes.len() - 1
+                    }
+                };
+                unions.push(u);
+            }
+            skin_entries.push(unions);
         }
         if joint_nodes.len() > u16::MAX as usize {
             return Err(self.skin_error(
-                skin,
+                &skins[0],
                 format!(
-                    "has {} joints; at most 65535 are supported",
+                    "{} together have {} joints; at most 65535 are supported",
+                    skins_label(&self.report.skins),
                     joint_nodes.len()
                 ),
             ));
         }
-        // Node → index in the skin's joint list.
-        let mut skin_index: Vec<Option<usize>> = vec![None; nodes.len()];
-        for (k, &node) in joint_nodes.iter().enumerate() {
-            let slot = skin_index.get_mut(node).ok_or_else(|| {
-                self.skin_error(
-                    skin,
-                    format!("joint {k} is node {node}, which does not exist"),
-                )
-            })?;
-            if let Some(first) = *slot {
-                return Err(self.skin_error(
-                    skin,
-                    format!("node {node} is listed twice in joints (entries {first} and {k})"),
-                ));
-            }
-            *slot = Some(k);
-        }
+        // The skin named in errors about a joint of the union: its first.
+        let skin_of = |u: usize| &skins[first_listed[u].0];
 
         // The skeleton reads the transforms of the joints and of every node
         // above them: each is checked once, and its local matrix kept.
@@ -456,7 +548,7 @@ impl CharacterLoader<'_> {
                 parent_joint[k] = skin_index[j];
                 if let Some(b) = bad {
                     return Err(self.skin_error(
-                        skin,
+                        skin_of(k),
                         format!(
                             "node {b} lies between joint nodes {j} and {node} but is not a joint of the skin and has a non-identity transform (not supported)"
                         ),
@@ -476,7 +568,7 @@ impl CharacterLoader<'_> {
                         let close = (first_world - world).abs().max() <= MATRIX_TOLERANCE * scale;
                         if !close {
                             return Err(self.skin_error(
-                                skin,
+                                skin_of(k),
                                 format!(
                                     "root joints node {first} and node {node} hang from nodes {} and {} with different world transforms; one skeleton base is supported",
                                     node_name(*first_parent),
@@ -489,7 +581,7 @@ impl CharacterLoader<'_> {
             }
         }
         let (_, _, base) = base.ok_or_else(|| {
-            self.skin_error(skin, "has no root joint (joints form a cycle)".into())
+            self.skin_error(&skins[0], "has no root joint (joints form a cycle)".into())
         })?;
 
         // Parents-first order, keeping the file's order where it allows.
@@ -512,43 +604,19 @@ impl CharacterLoader<'_> {
         }
         let joint_id: Vec<u16> = joint_id.into_iter().map(|j| j.unwrap_or(0)).collect();
 
-        // Inverse bind matrices.
-        let inverse_binds: Vec<Matrix4<f32>> = match skin.inverse_bind_matrices() {
-            None => vec![Matrix4::identity(); joint_nodes.len()],
-            Some(accessor) => {
-                let m =
-                    gltf_accessor::read_mat4_f32(&accessor, self.buffers, "inverseBindMatrices")
-                        .map_err(|e| {
-                            self.skin_error(skin, format!("accessor {}: {e}", accessor.index()))
-                        })?;
-                if m.len() < joint_nodes.len() {
-                    return Err(self.skin_error(
-                        skin,
-                        format!(
-                            "inverseBindMatrices accessor {} has {} matrices for {} joints",
-                            accessor.index(),
-                            m.len(),
-                            joint_nodes.len()
-                        ),
-                    ));
-                }
-                if m.len() > joint_nodes.len() {
-                    self.report.notes.push(format!(
-                        "skin {}: inverseBindMatrices has {} matrices for {} joints; extra ignored",
-                        skin.index(),
-                        m.len(),
-                        joint_nodes.len()
-                    ));
-                }
-                m.iter().map(|c| Matrix4::from_column_slice(c)).collect()
-            }
-        };
+        // Inverse bind matrices of every skin; a joint takes its first skin's.
+        let mut inverse_binds: Vec<Vec<Matrix4<f32>>> = Vec::with_capacity(skins.len());
+        for (skin, entries) in skins.iter().zip(&skin_entries) {
+            inverse_binds.push(self.inverse_binds(skin, entries.len())?);
+        }
 
         let mut joints = Vec::with_capacity(order.len());
         for &k in &order {
             let node = &nodes[joint_nodes[k]];
-            let rest = node_trs(node)
-                .map_err(|e| self.skin_error(skin, format!("joint node {}: {e}", node.index())))?;
+            let rest = node_trs(node).map_err(|e| {
+                self.skin_error(skin_of(k), format!("joint node {}: {e}", node.index()))
+            })?;
+            let (s, entry) = first_listed[k];
             joints.push(Joint {
                 name: node
                     .name()
@@ -556,45 +624,111 @@ impl CharacterLoader<'_> {
                     .unwrap_or_else(|| format!("node {}", node.index())),
                 parent: parent_joint[k].map(|p| JointId(joint_id[p])),
                 rest,
-                inverse_bind: inverse_binds[k],
+                inverse_bind: inverse_binds[s][entry],
             });
         }
         let base32: Matrix4<f32> = base.cast();
         if !base32.iter().all(|c| c.is_finite()) {
-            return Err(self.skin_error(skin, "the skeleton base transform is not finite".into()));
-        }
-        let skeleton =
-            Skeleton::new(joints, base32).map_err(|e| self.skin_error(skin, e.to_string()))?;
-        if order.iter().enumerate().any(|(i, &k)| i != k) {
-            self.report.notes.push(format!(
-                "skin {}: joints reordered so parents come before children",
-                skin.index()
+            return Err(self.skin_error(
+                &skins[0],
+                "the skeleton base transform is not finite".into(),
             ));
         }
+        let skeleton = Skeleton::new(joints, base32).map_err(|e| {
+            let skin = skeleton_error_joint(&e)
+                .and_then(|i| order.get(i))
+                .map_or(&skins[0], |&k| skin_of(k));
+            self.skin_error(skin, e.to_string())
+        })?;
+        if order.iter().enumerate().any(|(i, &k)| i != k) {
+            self.report.notes.push(format!(
+                "{}: joints reordered so parents come before children",
+                skins_label(&self.report.skins)
+            ));
+        }
+        let skins = skins
+            .iter()
+            .zip(skin_entries)
+            .zip(inverse_binds)
+            .map(|((skin, entries), inverse_binds)| SkinJoints {
+                index: skin.index(),
+                joints: entries.iter().map(|&u| joint_id[u]).collect(),
+                inverse_binds,
+            })
+            .collect();
         Ok(SkeletonMap {
             skeleton,
             joint_nodes,
             joint_id,
             skin_index,
+            skins,
         })
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn add_mesh(
+    /// The inverse bind matrices of `skin` (`joints` entries; identity when
+    /// absent), each with an exact `[0, 0, 0, 1]` fourth row.
+    fn inverse_binds(
+        &mut self,
+        skin: &gltf::Skin<'_>,
+        joints: usize,
+    ) -> Result<Vec<Matrix4<f32>>, LoadError> {
+        let Some(accessor) = skin.inverse_bind_matrices() else {
+            return Ok(vec![Matrix4::identity(); joints]);
+        };
+        let a = accessor.index();
+        let m = gltf_accessor::read_mat4_f32(&accessor, self.buffers, "inverseBindMatrices")
+            .map_err(|e| self.skin_error(skin, format!("accessor {a}: {e}")))?;
+        if m.len() < joints {
+            return Err(self.skin_error(
+                skin,
+                format!(
+                    "inverseBindMatrices accessor {a} has {} matrices for {joints} joints",
+                    m.len(),
+                ),
+            ));
+        }
+        if m.len() > joints {
+            self.report.notes.push(format!(
+                "skin {}: inverseBindMatrices has {} matrices for {joints} joints; extra ignored",
+                skin.index(),
+                m.len(),
+            ));
+        }
+        m.iter()
+            .take(joints)
+            .enumerate()
+            .map(|(k, c)| {
+                let m = Matrix4::from_column_slice(c);
+                exactly_affine(m).ok_or_else(|| {
+                    self.skin_error(
+                        skin,
+                        format!(
+                            "inverseBindMatrices accessor {a} element {k}: the fourth row is {:?}, not [0, 0, 0, 1]",
+                            [m[(3, 0)], m[(3, 1)], m[(3, 2)], m[(3, 3)]]
+                        ),
+                    )
+                })
+            })
+            .collect()
+    }
+
+    /// The triangle primitives of skinned node `node` (skin `skel.skins[s]`).
+    fn add_skinned_mesh(
         &mut self,
         node: usize,
         mesh: &gltf::Mesh<'_>,
         skel: &SkeletonMap,
-        positions: &mut Vec<Point>,
-        triangles: &mut Vec<[u32; 3]>,
-        joints: &mut Vec<[u16; 4]>,
-        weights: &mut Vec<[f32; 4]>,
-        ranges: &mut Vec<PrimitiveRange>,
+        s: usize,
+        slots: &mut JointSlots,
+        data: &mut MeshData,
     ) -> Result<(), LoadError> {
         let mesh_ref = MeshRef::of(mesh);
+        let skin = &skel.skins[s];
+        let identity = Matrix4::identity();
+        let origin = || format!("skin {}", skin.index);
         for primitive in mesh.primitives() {
             let p = primitive.index();
-            let base = positions.len();
+            let base = data.positions.len();
             let Some(TrianglePrimitive {
                 mode,
                 positions: stored,
@@ -669,13 +803,11 @@ impl CharacterLoader<'_> {
                 sets.push((jv, wv));
             }
 
-            // Merge the sets: the four largest weights of each vertex.
-            let remap = |j: u16| -> u16 {
-                // Out-of-range indices stay as they are for Influences::new to report.
-                skel.joint_id.get(j as usize).copied().unwrap_or(j)
-            };
+            // Merge the sets (the four largest weights of each vertex), check
+            // the skin's joint indices, and bind to the skeleton's joint slots.
+            let joint_count = skin.joints.len();
             let mut truncated = 0usize;
-            for v in 0..stored.len() {
+            for (v, position) in stored.iter().enumerate() {
                 let (jj, ww) = if sets.len() == 1 {
                     (sets[0].0[v], sets[0].1[v])
                 } else {
@@ -695,8 +827,30 @@ impl CharacterLoader<'_> {
                     }
                     (jj, ww)
                 };
-                joints.push(jj.map(remap));
-                weights.push(ww);
+                if let Some(j) = (0..4)
+                    .find(|&k| ww[k] > 0.0 && jj[k] as usize >= joint_count)
+                    .map(|k| jj[k])
+                {
+                    return Err(skinning_error(format!(
+                        "vertex {v}: joint index {j} (with non-zero weight) is out of range; skin {} has {joint_count} joints",
+                        skin.index
+                    )));
+                }
+                // Indices of zero weights are not used (Influences drops them).
+                let ids = jj.map(|j| skin.joints.get(j as usize).copied().unwrap_or(0));
+                let binds = jj.map(|j| skin.inverse_binds.get(j as usize).unwrap_or(&identity));
+                let [x, y, z] = *position;
+                let at = Point3::new(f64::from(x), f64::from(y), f64::from(z));
+                let bound = slots
+                    .bind(ids, binds, ww, &at, &origin)
+                    .map_err(&skinning_error)?;
+                if bound.moved.is_some() {
+                    self.report.moved_vertices += 1;
+                }
+                data.joints.push(bound.slots);
+                data.weights.push(ww);
+                data.positions
+                    .push(bound.moved.unwrap_or_else(|| Point::new(x, y, z)));
             }
             if sets.len() > 1 {
                 self.report.notes.push(format!(
@@ -704,33 +858,130 @@ impl CharacterLoader<'_> {
                     sets.len()
                 ));
             }
-
-            ranges.push(PrimitiveRange {
-                start: base,
-                mesh: mesh_ref.clone(),
-                primitive: p,
-            });
-            positions.extend(stored.iter().map(|v| Point::new(v[0], v[1], v[2])));
-            let before = triangles.len();
-            let offset = base as u32;
-            let (leftover, degenerate) = assemble(mode, &indices, |t| {
-                triangles.push([t[0] + offset, t[1] + offset, t[2] + offset]);
-            });
-            self.report.degenerate_dropped += degenerate;
-            if leftover > 0 {
-                self.report.notes.push(format!(
-                    "node {node}, mesh {mesh_ref} primitive {p}: {} indices is not a multiple of 3; last {leftover} ignored",
-                    indices.len()
-                ));
-            }
-            if triangles.len() == before {
-                self.report.notes.push(format!(
-                    "node {node}, mesh {mesh_ref} primitive {p}: no triangles"
-                ));
-            }
-            self.report.primitives += 1;
+            self.add_triangles(node, &mesh_ref, p, mode, &indices, base, data);
         }
         Ok(())
+    }
+
+    /// The triangle primitives of node `node`, which has no skin and hangs
+    /// from joint node `joint_node` by the transform `frame`: bound wholly
+    /// to that joint (see [`super::gltf_bind`]).
+    #[allow(clippy::too_many_arguments)]
+    fn add_rigid_mesh(
+        &mut self,
+        node: usize,
+        mesh: &gltf::Mesh<'_>,
+        joint_node: usize,
+        frame: &Matrix4<f64>,
+        skel: &SkeletonMap,
+        slots: &mut JointSlots,
+        data: &mut MeshData,
+    ) -> Result<(), LoadError> {
+        let mesh_ref = MeshRef::of(mesh);
+        let joint = skel.skin_index[joint_node].map_or(0, |u| skel.joint_id[u]);
+        let identity = Matrix4::identity();
+        let origin = || "rigid meshes".to_owned();
+        for primitive in mesh.primitives() {
+            let p = primitive.index();
+            let base = data.positions.len();
+            let Some(TrianglePrimitive {
+                mode,
+                positions: stored,
+                indices,
+            }) = read_triangle_primitive(
+                self.path,
+                self.buffers,
+                node,
+                &mesh_ref,
+                &primitive,
+                base,
+                &mut self.report,
+            )?
+            else {
+                continue;
+            };
+            let node_error = |reason: String| LoadError::Node {
+                path: self.path.to_owned(),
+                node,
+                reason: one_line(&format!("mesh {mesh_ref} primitive {p}: {reason}")),
+            };
+            for (v, position) in stored.iter().enumerate() {
+                let at = place(frame, *position);
+                if !at
+                    .coords
+                    .iter()
+                    .all(|c| c.abs() <= f64::from(MAX_COORDINATE))
+                {
+                    return Err(node_error(format!(
+                        "vertex {v} is non-finite or beyond {MAX_COORDINATE:e} in magnitude in the frame of joint node {joint_node}"
+                    )));
+                }
+                let bound = slots
+                    .bind(
+                        [joint, 0, 0, 0],
+                        [&identity; 4],
+                        [1.0, 0.0, 0.0, 0.0],
+                        &at,
+                        &origin,
+                    )
+                    .map_err(&node_error)?;
+                data.joints.push(bound.slots);
+                data.weights.push([1.0, 0.0, 0.0, 0.0]);
+                data.positions
+                    .push(bound.moved.unwrap_or_else(|| at.cast::<f32>()));
+            }
+            self.add_triangles(node, &mesh_ref, p, mode, &indices, base, data);
+        }
+        let name = skel.skeleton.joint(JointId(joint)).name.clone();
+        self.report.notes.push(format!(
+            "node {node}: mesh {} has no skin; bound rigidly to joint {name:?} (node {joint_node})",
+            mesh.index()
+        ));
+        self.report.attached_meshes.push(AttachedMesh {
+            node,
+            mesh: mesh.index(),
+            joint_node,
+            joint: name,
+        });
+        Ok(())
+    }
+
+    /// The triangles of primitive `p` (its vertices start at `base`).
+    #[allow(clippy::too_many_arguments)]
+    fn add_triangles(
+        &mut self,
+        node: usize,
+        mesh_ref: &MeshRef,
+        p: usize,
+        mode: Mode,
+        indices: &[u32],
+        base: usize,
+        data: &mut MeshData,
+    ) {
+        data.ranges.push(PrimitiveRange {
+            start: base,
+            mesh: mesh_ref.clone(),
+            primitive: p,
+        });
+        let before = data.triangles.len();
+        let offset = base as u32;
+        let (leftover, degenerate) = assemble(mode, indices, |t| {
+            data.triangles
+                .push([t[0] + offset, t[1] + offset, t[2] + offset]);
+        });
+        self.report.degenerate_dropped += degenerate;
+        if leftover > 0 {
+            self.report.notes.push(format!(
+                "node {node}, mesh {mesh_ref} primitive {p}: {} indices is not a multiple of 3; last {leftover} ignored",
+                indices.len()
+            ));
+        }
+        if data.triangles.len() == before {
+            self.report.notes.push(format!(
+                "node {node}, mesh {mesh_ref} primitive {p}: no triangles"
+            ));
+        }
+        self.report.primitives += 1;
     }
 
     /// An [`Influences::new`] error, with the global vertex index turned back
@@ -746,8 +997,7 @@ impl CharacterLoader<'_> {
             SkinError::JointOutOfRange { vertex, joint, .. } => (
                 *vertex,
                 format!(
-                    "joint index {joint} (with non-zero weight) is out of range; skin {} has {joint_count} joints",
-                    skin.index()
+                    "joint slot {joint} (with non-zero weight) is out of range; the skeleton has {joint_count} joint slots"
                 ),
             ),
             SkinError::BadWeights { vertex, sum } => (
@@ -772,11 +1022,14 @@ impl CharacterLoader<'_> {
         }
     }
 
+    /// The clips of the file's animations, for a skeleton of `joint_count`
+    /// joint slots (joints, then added slots).
     fn clips(
         &mut self,
         document: &gltf::Document,
         skel: &SkeletonMap,
         parents: &[Option<usize>],
+        joint_count: usize,
     ) -> Result<Vec<Clip>, LoadError> {
         // Nodes above the skeleton: animating them would move the (static) base.
         let mut above = vec![false; document.nodes().len()];
@@ -830,6 +1083,8 @@ impl CharacterLoader<'_> {
                 let Some(k) = skel.skin_index.get(node).copied().flatten() else {
                     let reason = if above.get(node).copied().unwrap_or(false) {
                         "the node is above the skeleton; the skeleton base is static"
+                    } else if self.report.attached_meshes.iter().any(|m| m.node == node) {
+                        "the node is not a joint; its rigid mesh follows the joint it hangs from"
                     } else {
                         "the node is not a joint of the skin"
                     };
@@ -840,7 +1095,7 @@ impl CharacterLoader<'_> {
                 channels.push(self.channel(a, c, &channel, joint, property)?);
                 sources.push(c);
             }
-            let clip = Clip::new(name, channels, skel.skeleton.len()).map_err(|e| {
+            let clip = Clip::new(name, channels, joint_count).map_err(|e| {
                 let channel = match &e {
                     crate::character::clip::ChannelError::Empty { channel }
                     | crate::character::clip::ChannelError::BadTimes { channel }
@@ -858,7 +1113,7 @@ impl CharacterLoader<'_> {
             })?;
             if clip.channels.is_empty() {
                 self.report.notes.push(format!(
-                    "animation {a} ({:?}) animates no joint of the skin; its clip is empty",
+                    "animation {a} ({:?}) animates no joint of the skeleton; its clip is empty",
                     clip.name
                 ));
             }
@@ -953,15 +1208,57 @@ impl CharacterLoader<'_> {
     }
 }
 
-/// The skeleton and how the file's nodes and skin joints map onto it.
+/// The skeleton (joints of every skin, without added slots) and how the
+/// file's nodes and skin joints map onto it.
 struct SkeletonMap {
     skeleton: Skeleton,
-    /// Node of each skin joint, in the skin's order.
+    /// Node of each joint of the union, in order of first listing.
     joint_nodes: Vec<usize>,
-    /// Our joint index of each skin joint (skin order).
+    /// Our joint index of each joint of the union.
     joint_id: Vec<u16>,
-    /// Skin joint index of each node of the file.
+    /// Index in the union of each node of the file that is a joint.
     skin_index: Vec<Option<usize>>,
+    /// The skins, in order of first use.
+    skins: Vec<SkinJoints>,
+}
+
+/// One skin of the character: its entries as joints of the skeleton.
+struct SkinJoints {
+    /// The skin's index in the file.
+    index: usize,
+    /// Our joint index of each entry of the skin's `joints`.
+    joints: Vec<u16>,
+    /// The skin's inverse bind matrix of each entry (fourth row exact).
+    inverse_binds: Vec<Matrix4<f32>>,
+}
+
+/// Vertices, triangles and influences of the character, as they are added.
+#[derive(Default)]
+struct MeshData {
+    positions: Vec<Point>,
+    triangles: Vec<[u32; 3]>,
+    joints: Vec<[u16; 4]>,
+    weights: Vec<[f32; 4]>,
+    ranges: Vec<PrimitiveRange>,
+}
+
+/// `"skin 0"` or `"skins 0, 2"`.
+fn skins_label(skins: &[usize]) -> String {
+    let list: Vec<String> = skins.iter().map(usize::to_string).collect();
+    match list.len() {
+        1 => format!("skin {}", list[0]),
+        _ => format!("skins {}", list.join(", ")),
+    }
+}
+
+/// The joint a [`SkeletonError`] is about, if any.
+fn skeleton_error_joint(error: &SkeletonError) -> Option<usize> {
+    match error {
+        SkeletonError::ParentNotBefore { joint, .. }
+        | SkeletonError::NonFinite { joint, .. }
+        | SkeletonError::NotAffine { joint, .. } => Some(*joint),
+        SkeletonError::Empty | SkeletonError::TooMany(_) | SkeletonError::BaseNotAffine(_) => None,
+    }
 }
 
 fn node_name(node: Option<usize>) -> String {

@@ -199,18 +199,6 @@ pub enum LoadError {
     )]
     NoSkin { path: PathBuf },
 
-    #[error(
-        "{}: skinned nodes use different skins: node {first_node} uses skin {first_skin}, node {second_node} uses skin {second_skin}; one character needs one skin",
-        .path.display()
-    )]
-    SkinMismatch {
-        path: PathBuf,
-        first_node: usize,
-        first_skin: usize,
-        second_node: usize,
-        second_skin: usize,
-    },
-
     #[error("{}: skin {skin}: {reason}", .path.display())]
     Skin {
         path: PathBuf,
@@ -257,7 +245,6 @@ impl LoadError {
             | Self::TooLarge { path }
             | Self::Mesh { path, .. }
             | Self::NoSkin { path }
-            | Self::SkinMismatch { path, .. }
             | Self::Skin { path, .. }
             | Self::Skinning { path, .. }
             | Self::Animation { path, .. } => path,
@@ -307,12 +294,36 @@ pub struct LoadReport {
     pub degenerate_dropped: usize,
     /// Primitives that are not triangles.
     pub skipped: Vec<SkippedPrimitive>,
-    /// Character loading only: nodes whose mesh was left out because it is not skinned.
+    /// Character loading only: nodes whose mesh was left out because it has
+    /// no skin and hangs from no joint.
     pub unskinned_meshes: Vec<usize>,
+    /// Character loading only: the skins whose joints make the one skeleton,
+    /// in order of first use by the scene's skinned nodes.
+    pub skins: Vec<usize>,
+    /// Character loading only: meshes without a skin below a joint, bound
+    /// wholly to that joint.
+    pub attached_meshes: Vec<AttachedMesh>,
+    /// Character loading only: vertices moved into the bind space of their
+    /// joints' first skin (their skin's inverse bind matrices differ).
+    pub moved_vertices: usize,
+    /// Character loading only: joint slots added for inverse bind matrices
+    /// that differ from their joint's first skin per vertex.
+    pub added_joint_slots: usize,
     /// Character loading only: animation channels that were not converted.
     pub skipped_channels: Vec<SkippedChannel>,
     /// Other things worth knowing: ignored morph targets, stray indices, used extensions.
     pub notes: Vec<String>,
+}
+
+/// A mesh without a skin that the character loader bound rigidly to a joint.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct AttachedMesh {
+    /// The mesh's node.
+    pub node: usize,
+    pub mesh: usize,
+    /// The joint's node and name.
+    pub joint_node: usize,
+    pub joint: String,
 }
 
 /// An animation channel the character loader did not convert, and why.

@@ -7,9 +7,11 @@
 //! | [`ply`] | writing triangle meshes as PLY (`run --dump-frame`) |
 //! | [`source`] | a character source: a glTF file or `generated:humanoid?vertices=N&seed=S` |
 //! | [`limits`] | [`LoadLimits`]: the byte budget a file may make the loaders allocate |
+//! | `gltf_bind` | how a character's meshes bind to its one skeleton: several skins (joint slots, bind spaces), rigid meshes below a joint (private) |
 //! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by both loaders) |
 
 mod gltf_accessor;
+mod gltf_bind;
 pub mod gltf_character;
 pub mod gltf_static;
 pub mod limits;
@@ -18,8 +20,8 @@ pub mod source;
 
 pub use gltf_character::{load_character, load_character_from};
 pub use gltf_static::{
-    LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive, load_static_mesh,
-    load_static_mesh_from,
+    AttachedMesh, LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive,
+    load_static_mesh, load_static_mesh_from,
 };
 pub use limits::LoadLimits;
 pub use source::{CharacterSource, SourceError};

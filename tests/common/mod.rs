@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 pub mod glb;
+pub mod gltf_builder;
 pub mod rrd;
 
 use std::path::PathBuf;
