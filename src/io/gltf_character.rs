@@ -224,14 +224,17 @@ impl CharacterLoader<'_> {
         }
         // The skins of the skinned nodes, in order of first use.
         let mut skins: Vec<gltf::Skin> = Vec::new();
+        let mut position_of_skin: Vec<Option<usize>> = vec![None; document.skins().len()];
         let mut skin_of_node: Vec<usize> = Vec::with_capacity(skinned.len());
         for (_, _, skin) in &skinned {
-            let s = match skins.iter().position(|s| s.index() == skin.index()) {
-                Some(s) => s,
-                None => {
-                    skins.push(skin.clone());
-                    skins.len() - 1
-                }
+            let mut add = || {
+                skins.push(skin.clone());
+                skins.len() - 1
+            };
+            // The index was validated; a missing slot would only lose sharing.
+            let s = match position_of_skin.get_mut(skin.index()) {
+                Some(slot) => *slot.get_or_insert_with(add),
+                None => add(),
             };
             skin_of_node.push(s);
         }
@@ -1047,6 +1050,10 @@ impl CharacterLoader<'_> {
                 }
             }
         }
+        let mut attached = vec![false; document.nodes().len()];
+        for mesh in &self.report.attached_meshes {
+            attached[mesh.node] = true;
+        }
         let mut clips = Vec::new();
         for animation in document.animations() {
             let a = animation.index();
@@ -1083,7 +1090,7 @@ impl CharacterLoader<'_> {
                 let Some(k) = skel.skin_index.get(node).copied().flatten() else {
                     let reason = if above.get(node).copied().unwrap_or(false) {
                         "the node is above the skeleton; the skeleton base is static"
-                    } else if self.report.attached_meshes.iter().any(|m| m.node == node) {
+                    } else if attached.get(node).copied().unwrap_or(false) {
                         "the node is not a joint; its rigid mesh follows the joint it hangs from"
                     } else {
                         "the node is not a joint of the skin"
