@@ -136,6 +136,10 @@ fn every_shipped_scenario_is_tested() {
         [
             "brainstem.toml",
             "cesium_man.toml",
+            // The worlds: tests/worlds.rs.
+            "crowd.toml",
+            "door.toml",
+            "handshake.toml",
             "living_room.toml",
             "museum.toml",
             "touching.toml"
