@@ -25,11 +25,11 @@ use fixtures::{FrameCycle, scenario};
 fn frame(c: &mut Criterion) {
     let name = "living_room";
     let r = scenario(name);
-    let character = &r.character;
+    let character = &r.first().character;
     let env = &r.environment.mesh;
     let options = PipelineOptions {
         dedup: false,
-        ..r.pipeline_options()
+        ..r.pipeline_options(r.first())
     };
     let mut g = c.benchmark_group(format!("frame/{name}"));
     g.sample_size(10);
@@ -40,7 +40,8 @@ fn frame(c: &mut Criterion) {
     let mut cycle = FrameCycle::new(r.frames());
     g.bench_function("parry3d baseline", |b| {
         b.iter(|| {
-            r.pose_and_skin_frame(&mut buffers, cycle.next_frame());
+            r.first()
+                .pose_and_skin_frame(&mut buffers, cycle.next_frame());
             parry.update(&buffers.positions).unwrap();
             parry.pairs_f32(&mut pairs);
             black_box(pairs.len())
@@ -53,7 +54,7 @@ fn frame(c: &mut Criterion) {
         let mut cycle = FrameCycle::new(r.frames());
         g.bench_function(method.name(), |b| {
             b.iter(|| {
-                r.pose_frame(&mut buffers, cycle.next_frame());
+                r.first().pose_frame(&mut buffers, cycle.next_frame());
                 black_box(p.detect(&buffers, character, env).pairs)
             })
         });

@@ -23,7 +23,7 @@ const CHARACTERS: [&str; 2] = ["cesium_man", "living_room"];
 fn skinning(c: &mut Criterion) {
     for name in CHARACTERS {
         let r = scenario(name);
-        let character = &r.character;
+        let character = &r.first().character;
         let vertices = character.mesh.positions().len();
         let mut g = c.benchmark_group(format!("pose_and_skin/{name}"));
         g.sample_size(20);
@@ -31,14 +31,14 @@ fn skinning(c: &mut Criterion) {
         let mut cycle = FrameCycle::new(r.frames());
         g.throughput(Throughput::Elements(character.skeleton.len() as u64));
         g.bench_function("pose joints", |b| {
-            b.iter(|| black_box(r.pose_frame(&mut buffers, cycle.next_frame())))
+            b.iter(|| black_box(r.first().pose_frame(&mut buffers, cycle.next_frame())))
         });
         g.throughput(Throughput::Elements(vertices as u64));
         for (label, model) in [
             ("skin all, linear blend", SkinningModel::Linear),
             ("skin all, paper model", SkinningModel::Paper),
         ] {
-            r.pose_frame(&mut buffers, 3);
+            r.first().pose_frame(&mut buffers, 3);
             g.bench_function(label, |b| {
                 b.iter(|| {
                     buffers.skin_all(character, model);
@@ -53,13 +53,13 @@ fn skinning(c: &mut Criterion) {
 fn full_refit(c: &mut Criterion) {
     for name in CHARACTERS {
         let r = scenario(name);
-        let character = &r.character;
+        let character = &r.first().character;
         // Any method: the character's tree is the same for all of them.
         let mut p = Pipeline::new(
             character,
             &r.environment.mesh,
             Method::Original,
-            r.pipeline_options(),
+            r.pipeline_options(r.first()),
         );
         let spheres = p.character_tree.tree.len() as u64;
         let mut g = c.benchmark_group(format!("refit/{name}"));
@@ -69,7 +69,7 @@ fn full_refit(c: &mut Criterion) {
         let mut cycle = FrameCycle::new(r.frames());
         g.bench_function("every sphere", |b| {
             b.iter(|| {
-                r.pose_frame(&mut buffers, cycle.next_frame());
+                r.first().pose_frame(&mut buffers, cycle.next_frame());
                 p.refit_all(&buffers);
                 black_box(p.refit_state().spheres.len())
             })

@@ -90,12 +90,19 @@ pub fn measure(
     dedup: bool,
     progress: &indicatif::ProgressBar,
 ) -> anyhow::Result<Bench> {
+    if resolved.characters.len() > 1 || !resolved.objects.is_empty() {
+        anyhow::bail!(
+            "{name}: bench measures one character in a static room; worlds with several \
+             characters or moving objects are not benchmarked yet (use `compare` for their counters and times)"
+        );
+    }
+    let first = resolved.first();
     let dedup = dedup && resolved.dedup;
     let options = PipelineOptions {
         dedup,
-        ..resolved.pipeline_options()
+        ..resolved.pipeline_options(first)
     };
-    let character = &resolved.character;
+    let character = &first.character;
     let env = &resolved.environment.mesh;
     let mut pipes: Vec<Pipeline> = methods
         .iter()
@@ -119,7 +126,7 @@ pub fn measure(
     let mut skinned = vec![0u64; pipes.len()];
     let mut differ = vec![0usize; pipes.len()];
     for k in 0..frames {
-        let (pose, skin_all) = resolved.pose_and_skin_frame(&mut buffers, k);
+        let (pose, skin_all) = first.pose_and_skin_frame(&mut buffers, k);
         pose_ms.push(pose);
         skin_all_ms.push(skin_all);
         let t0 = Instant::now();

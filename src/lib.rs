@@ -35,3 +35,4 @@ pub mod scenario;
 pub mod sphere_tree;
 pub mod study;
 pub mod truth;
+pub mod world;

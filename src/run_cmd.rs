@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use clap::parser::ValueSource;
-use cornertree::character::{PoseBuffers, SkinningModel};
+use cornertree::character::SkinningModel;
 use cornertree::pipeline::driver::Pipeline;
 use cornertree::pipeline::{LeafTest, Method};
 use cornertree::record::blueprint::run_blueprint;
@@ -16,9 +16,11 @@ use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
 use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
 use cornertree::report::run::TruthRecord;
-use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable};
+use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable, WorldFrameRecord};
 use cornertree::scenario::{Resolved, open_scenario_with, scenario_name};
+use cornertree::truth::WorldTruth;
 use cornertree::truth::{FrameTruth, MethodContext};
+use cornertree::world::World;
 
 #[derive(clap::Args)]
 pub struct RunArgs {
@@ -57,6 +59,10 @@ pub struct RunArgs {
     /// --stdout says otherwise; see docs/recordings.md).
     #[arg(long, conflicts_with_all = ["save", "connect", "stdout"])]
     pub no_record: bool,
+    /// Threads for the characters and body pairs of a frame (0: one per
+    /// core). Counters and pairs do not depend on it.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
     #[command(flatten)]
     pub rerun: rerun::clap::RerunArgs,
 }
@@ -89,22 +95,23 @@ fn interrupt_flag() -> Arc<AtomicBool> {
 }
 
 fn scenario_markdown(name: &str, r: &Resolved, frames: usize, method: Method) -> String {
+    let first = r.first();
     let mut s = format!(
         "## {name}: {}\n\n| | |\n|---|---|\n| character | {} ({} vertices, {} triangles) |\n\
          | environment | {} ({} triangles) |\n| frames | {frames} at {} fps |\n\
          | skinning | {:?} |\n| edge de-duplication | {} |\n| big-triangle threshold | {} m |\n",
         method.name(),
-        r.character.name,
-        r.character.mesh.vertex_count(),
-        r.character.mesh.triangle_count(),
+        first.character.name,
+        first.character.mesh.vertex_count(),
+        first.character.mesh.triangle_count(),
         r.environment.name,
         r.environment.mesh.triangle_count(),
         r.fps,
-        r.skinning,
+        first.skinning,
         if r.dedup { "on" } else { "off" },
         r.threshold,
     );
-    if let Some(g) = &r.gap {
+    if let Some(g) = &first.gap {
         s += &format!(
             "| placement | gap {:.4} m from {} (closest at frame {}) |\n",
             g.achieved, g.surface, g.closest_frame
@@ -166,6 +173,7 @@ pub fn compare(args: CompareArgs) -> anyhow::Result<String> {
         no_truth: false,
         dump_frame: None,
         no_record: true,
+        threads: 0,
         rerun: no_rerun,
     };
     let style = if args.markdown {
@@ -186,7 +194,9 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     // is created.
     let mut resolved = open_scenario_with(&args.scenario, |s| {
         if let Some(model) = args.skinning {
-            s.character.skinning = model;
+            for c in &mut s.characters {
+                c.character.skinning = model;
+            }
         }
     })?;
     if !args.methods.is_empty() {
@@ -195,9 +205,32 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     if args.no_dedup {
         resolved.dedup = false;
     }
+    let is_world = resolved.characters.len() > 1 || !resolved.objects.is_empty();
+    let mut notes = Vec::new();
+    let target = match (is_world, target) {
+        (false, t) => t,
+        (true, RecordingTarget::None) => RecordingTarget::None,
+        (true, RecordingTarget::Default) => {
+            notes.push(
+                "recording: not written (recordings of worlds with several characters or \
+                 moving objects are not implemented yet)"
+                    .to_string(),
+            );
+            RecordingTarget::None
+        }
+        (true, _) => anyhow::bail!(
+            "{}: recordings of worlds with several characters or moving objects are not \
+             implemented yet; run with --no-record",
+            args.scenario.display()
+        ),
+    };
     target.check(resolved.methods.len())?;
     let frames = args.frames.map_or(resolved.frames(), |f| f as usize);
+    resolved.frames = frames;
     let dump = match &args.dump_frame {
+        Some(_) if is_world => anyhow::bail!(
+            "--dump-frame: only for a scenario with one character and no moving objects"
+        ),
         Some(v) => {
             let k: usize = v[0].parse().map_err(|_| {
                 anyhow::anyhow!(
@@ -216,7 +249,6 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         None => None,
     };
     let name = scenario_name(&args.scenario);
-    let options = resolved.pipeline_options();
     let progress = indicatif::ProgressBar::new(frames as u64);
     progress.set_style(
         indicatif::ProgressStyle::with_template(
@@ -227,27 +259,32 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     );
     progress.set_prefix(name.clone());
     progress.set_message("building hierarchies");
-    let character = &resolved.character;
-    let env = &resolved.environment.mesh;
-    let mut pipes: Vec<Pipeline> = resolved
-        .methods
-        .iter()
-        .map(|&m| Pipeline::new(character, env, m, options))
-        .collect();
+    let mut world = World::new(resolved, args.threads)?;
 
     // The ground truth, shared by every method.
-    let mut truth = if args.no_truth {
+    let mut truth = if args.no_truth || is_world {
         None
     } else {
+        let first = world.scene.first();
         Some(
-            FrameTruth::new(env, character.mesh.indices())
-                .context("setting up the ground truth")?,
+            FrameTruth::new(
+                &world.scene.environment.mesh,
+                first.character.mesh.indices(),
+            )
+            .context("setting up the ground truth")?,
         )
     };
-    let kept: Vec<Vec<bool>> = pipes
-        .iter()
-        .map(|p| {
-            let mut kept = vec![false; character.mesh.triangle_count()];
+    let mut world_truth = if args.no_truth || !is_world {
+        None
+    } else {
+        Some(WorldTruth::new(&world.scene).context("setting up the ground truth")?)
+    };
+    let kept: Vec<Vec<bool>> = world
+        .methods
+        .iter_mut()
+        .map(|m| {
+            let p = m.pipeline(0);
+            let mut kept = vec![false; p.character_tree.triangle_joint.len()];
             for t in &p.character_tree.triangles {
                 kept[t.index()] = true;
             }
@@ -255,82 +292,134 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         })
         .collect();
 
-    // One recording per method.
+    // One recording per method (one character in a static room).
     let record_options = RecordOptions {
-        all_spheres: resolved.recording.all_spheres,
-        mesh_every: resolved.recording.mesh_every,
-        spheres_every: resolved.recording.spheres_every,
+        all_spheres: world.scene.recording.all_spheres,
+        mesh_every: world.scene.recording.mesh_every,
+        spheres_every: world.scene.recording.spheres_every,
     };
     let mut created: Vec<PathBuf> = Vec::new();
     let mut recorders: Vec<Option<RunRecorder>> = Vec::new();
-    let methods = pipes.len();
-    for p in &mut pipes {
-        let opened = target
-            .open(
-                &name,
-                p.method.name(),
-                methods,
-                run_blueprint(layout::display_level(&p.character_tree.tree)),
+    let methods = world.methods.len();
+    {
+        let World {
+            scene,
+            methods: mws,
+            ..
+        } = &mut world;
+        for mw in mws.iter_mut() {
+            let method = mw.method;
+            let p = mw.pipeline(0);
+            let opened = target
+                .open(
+                    &name,
+                    method.name(),
+                    methods,
+                    run_blueprint(layout::display_level(&p.character_tree.tree)),
+                )
+                .inspect_err(|_| discard(&created))?;
+            let Some(o) = opened else {
+                recorders.push(None);
+                continue;
+            };
+            if let Some(path) = &o.path {
+                created.push(path.clone());
+            }
+            let info = SceneInfo {
+                scenario: &name,
+                markdown: scenario_markdown(&name, scene, frames, method),
+            };
+            let first = scene.first();
+            let r = RunRecorder::new(
+                o.stream,
+                record_options,
+                &info,
+                p,
+                &first.character,
+                &scene.environment.mesh,
             )
             .inspect_err(|_| discard(&created))?;
-        let Some(o) = opened else {
-            recorders.push(None);
-            continue;
-        };
-        if let Some(path) = &o.path {
-            created.push(path.clone());
+            recorders.push(Some(r));
         }
-        let info = SceneInfo {
-            scenario: &name,
-            markdown: scenario_markdown(&name, &resolved, frames, p.method),
-        };
-        let r = RunRecorder::new(o.stream, record_options, &info, p, character, env)
-            .inspect_err(|_| discard(&created))?;
-        recorders.push(Some(r));
     }
 
-    let mut runs: Vec<MethodRun> = pipes
-        .iter()
-        .map(|p| MethodRun {
+    let mut runs: Vec<MethodRun> = world
+        .methods
+        .iter_mut()
+        .map(|m| MethodRun {
             scenario: name.clone(),
-            method: p.method,
-            dedup: resolved.dedup,
-            hierarchy_bytes: p.hierarchy_bytes(),
+            method: m.method,
+            dedup: world.scene.dedup,
+            hierarchy_bytes: if is_world {
+                m.hierarchy_bytes()
+            } else {
+                m.pipeline(0).hierarchy_bytes()
+            },
             frames: Vec::with_capacity(frames),
         })
         .collect();
     let interrupted = interrupt_flag();
-    let mut buffers = PoseBuffers::new(character);
     progress.set_message("");
     let mut played = 0;
     for k in 0..frames {
         if interrupted.load(Ordering::SeqCst) {
             break;
         }
-        let t = resolved.time_at(k);
+        let t = world.scene.first().time_at(k);
         // Every vertex is skinned for the ground truth, the recording and a
         // dump, when any of them is on (not part of any method's time:
         // methods skin only what they test).
-        let pose_ms = resolved.pose_frame(&mut buffers, k);
+        world.pose(k);
         let dumped = dump.as_ref().is_some_and(|(dk, _)| *dk == k);
-        if truth.is_some() || recorders.iter().any(Option::is_some) || dumped {
-            buffers.skin_all(character, resolved.skinning);
+        if truth.is_some()
+            || world_truth.is_some()
+            || recorders.iter().any(Option::is_some)
+            || dumped
+        {
+            world.skin_all();
         }
-        let indices = character.mesh.indices();
         if let Some(t) = truth.as_mut() {
-            t.update(&buffers.positions, indices, env)
-                .inspect_err(|_| discard(&created))
+            let first = world.scene.first();
+            t.update(
+                &world.buffers[0].positions,
+                first.character.mesh.indices(),
+                &world.scene.environment.mesh,
+            )
+            .inspect_err(|_| discard(&created))
+            .with_context(|| format!("ground truth of frame {k}"))?;
+        }
+        if let Some(t) = world_truth.as_mut() {
+            t.update(&world.scene, &world.buffers, &world.object_poses)
                 .with_context(|| format!("ground truth of frame {k}"))?;
         }
-        for (i, ((p, r), rec)) in pipes
-            .iter_mut()
-            .zip(&mut runs)
-            .zip(&mut recorders)
-            .enumerate()
-        {
-            let mut c = p.detect(&buffers, character, env);
-            c.time.pose_ms = pose_ms;
-            let mut record = FrameRecord::new(k, &c, &p.pairs);
+        for i in 0..world.methods.len() {
+            world.detect_method(i);
+            let World {
+                scene,
+                methods: mws,
+                buffers,
+                ..
+            } = &mut world;
+            let mw = &mut mws[i];
+            let method = mw.method;
+            let c = mw.outcome.total;
+            let env = &scene.environment.mesh;
+            let first = scene.first();
+            let character = &first.character;
+            let indices = character.mesh.indices();
+            let mut record = if is_world {
+                let mut r = FrameRecord::new(k, &c, &[]);
+                let mut w = WorldFrameRecord::new(&mw.outcome);
+                if let Some(t) = world_truth.as_ref() {
+                    w.accuracy_by_kind = Some(t.score(&mw.outcome));
+                    w.parry_accuracy_by_kind = Some(t.parry_score());
+                }
+                r.world = Some(w);
+                r
+            } else {
+                FrameRecord::new(k, &c, &mw.pipeline(0).pairs)
+            };
+            let p = mw.pipeline(0);
             let scored = match truth.as_mut() {
                 Some(t) => {
                     let ctx = MethodContext {
@@ -339,9 +428,9 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
                         plane_sphere: p.method.big_leaf_test() == LeafTest::PlaneSphere,
                     };
                     let mt = t
-                        .score(&p.pairs, &buffers.positions, indices, env, &ctx)
+                        .score(&p.pairs, &buffers[0].positions, indices, env, &ctx)
                         .inspect_err(|_| discard(&created))
-                        .with_context(|| format!("scoring frame {k} of {}", p.method))?;
+                        .with_context(|| format!("scoring frame {k} of {method}"))?;
                     record.truth = Some(TruthRecord::new(
                         &mt,
                         t.exact.len(),
@@ -352,14 +441,16 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
                 }
                 None => None,
             };
-            r.frames.push(record);
-            if let Some(rec) = rec {
+            runs[i].frames.push(record);
+            if let Some(rec) = &mut recorders[i] {
                 // Written to disk every frame: a killed run leaves a recording
                 // of every frame before the kill.
                 let logged = rec
-                    .log_frame(k, t, p, &buffers, character, env, &c)
+                    .log_frame(k, t, p, &buffers[0], character, env, &c)
                     .and_then(|()| match &scored {
-                        Some((mt, n)) => rec.log_truth(mt, *n, &buffers.positions, character, env),
+                        Some((mt, n)) => {
+                            rec.log_truth(mt, *n, &buffers[0].positions, character, env)
+                        }
                         None => Ok(()),
                     })
                     .map_err(anyhow::Error::from)
@@ -370,21 +461,28 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
                     });
                 if let Err(e) = logged {
                     discard(&created);
-                    return Err(e.context(format!("recording frame {k} of {}", p.method)));
+                    return Err(e.context(format!("recording frame {k} of {method}")));
                 }
             }
         }
         if let Some((dk, dir)) = &dump
             && *dk == k
         {
+            let World {
+                scene,
+                methods: mws,
+                buffers,
+                ..
+            } = &mut world;
+            let pipes: Vec<&Pipeline> = mws.iter_mut().map(|m| &*m.pipeline(0)).collect();
             dump_frame(
                 dir,
                 k,
                 &name,
                 &pipes,
-                &buffers.positions,
-                character,
-                env,
+                &buffers[0].positions,
+                &scene.first().character,
+                &scene.environment.mesh,
                 truth.as_mut(),
             )
             .with_context(|| format!("{}: cannot dump frame {k}", dir.display()))?;
@@ -400,10 +498,10 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         format!("finished {frames} frames")
     };
     let mut recorded = Vec::new();
-    for (rec, p) in recorders.into_iter().zip(&pipes) {
+    for (rec, m) in recorders.into_iter().zip(&world.methods) {
         if let Some(rec) = rec {
             rec.finish(&note)
-                .with_context(|| format!("finishing the recording of {}", p.method))?;
+                .with_context(|| format!("finishing the recording of {}", m.method))?;
             recorded.push(rec.frames_logged());
             drop(rec);
         }
@@ -418,41 +516,78 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         std::fs::write(path, text)
             .with_context(|| format!("{}: cannot write the report", path.display()))?;
     }
-    let mut out = format!(
-        "{name}: {} ({} vertices) in {} ({} triangles), {played} frames at {} fps, {} skinning{}\n",
-        character.name,
-        character.mesh.vertex_count(),
-        resolved.environment.name,
-        env.triangle_count(),
-        resolved.fps,
-        match resolved.skinning {
-            cornertree::character::SkinningModel::Linear => "linear blend",
-            cornertree::character::SkinningModel::Paper => "paper-model",
-        },
-        if resolved.dedup {
-            ", edge de-duplication on"
-        } else {
-            ""
-        },
-    );
+    let scene = &world.scene;
+    let env = &scene.environment.mesh;
+    let first = scene.first();
+    let skinning_name = |m: SkinningModel| match m {
+        SkinningModel::Linear => "linear blend",
+        SkinningModel::Paper => "paper-model",
+    };
+    let mut out = if is_world {
+        format!(
+            "{name}: {} characters ({}), {} moving objects in {} ({} triangles), {played} frames at {} fps on {} threads{}\n",
+            scene.characters.len(),
+            scene
+                .characters
+                .iter()
+                .map(|a| format!("{}: {} vertices", a.name, a.character.mesh.vertex_count()))
+                .collect::<Vec<_>>()
+                .join(", "),
+            scene.objects.len(),
+            scene.environment.name,
+            env.triangle_count(),
+            scene.fps,
+            world.threads(),
+            if scene.dedup {
+                ", edge de-duplication on"
+            } else {
+                ""
+            },
+        )
+    } else {
+        format!(
+            "{name}: {} ({} vertices) in {} ({} triangles), {played} frames at {} fps, {} skinning{}\n",
+            first.character.name,
+            first.character.mesh.vertex_count(),
+            scene.environment.name,
+            env.triangle_count(),
+            scene.fps,
+            skinning_name(first.skinning),
+            if scene.dedup {
+                ", edge de-duplication on"
+            } else {
+                ""
+            },
+        )
+    };
     if stopped {
         out += &format!("{note}: the summary covers the frames played\n");
     }
-    if let Some(g) = &resolved.gap {
-        out += &format!(
-            "placement: gap {:.4} m from {} (asked {:.4} m; closest at frame {})\n",
-            g.achieved, g.surface, g.metres, g.closest_frame
-        );
+    for a in &scene.characters {
+        if let Some(g) = &a.gap {
+            let who = if is_world {
+                format!(" {}", a.name)
+            } else {
+                String::new()
+            };
+            out += &format!(
+                "placement{who}: gap {:.4} m from {} (asked {:.4} m; closest at frame {})\n",
+                g.achieved, g.surface, g.metres, g.closest_frame
+            );
+        }
     }
     out += &match style {
         Style::Text => SummaryTable(&summaries).to_string(),
         Style::Markdown => SummaryTable(&summaries).markdown(),
     };
+    if is_world {
+        out += &world_kind_table(&runs, world_truth.is_some());
+    }
     out += &format!(
         "{played} frames, {} methods in {:.1} s (hierarchies, frames{})\n",
-        pipes.len(),
+        world.methods.len(),
         started.elapsed().as_secs_f64(),
-        if truth.is_some() {
+        if truth.is_some() || world_truth.is_some() {
             ", ground truth"
         } else {
             ""
@@ -472,10 +607,47 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     for path in &created {
         out += &format!("recording: {} ({})\n", path.display(), file_size(path));
     }
+    for n in &notes {
+        out += &format!("{n}\n");
+    }
     if matches!(target, RecordingTarget::Rerun(..)) && !recorded.is_empty() {
         out += "recording: sent to the Rerun viewer\n";
     }
     Ok(out)
+}
+
+/// Per pair kind: each method's pairs over the run and, with the truth,
+/// precision and recall.
+fn world_kind_table(runs: &[MethodRun], with_truth: bool) -> String {
+    use cornertree::world::PairKind;
+    let mut out = String::from(
+        "per pair kind (pairs over the run; precision / recall against the exact pairs):\n",
+    );
+    for r in runs {
+        out += &format!("  {:32}", r.method.name());
+        for kind in PairKind::ALL {
+            let (mut pairs, mut acc) = (0u64, cornertree::truth::Accuracy::default());
+            let mut ops = 0u64;
+            for f in &r.frames {
+                let Some(w) = &f.world else { continue };
+                pairs += w.by_kind.get(kind).pairs;
+                ops = ops.max(w.by_kind.get(kind).operations);
+                if let Some(a) = &w.accuracy_by_kind {
+                    let a = a.get(kind);
+                    acc.tp += a.tp;
+                    acc.fp += a.fp;
+                    acc.fn_ += a.fn_;
+                }
+            }
+            out += &format!(" {}: {pairs} pairs, max {ops} ops", kind.name());
+            if with_truth {
+                out += &format!(" ({:.3} / {:.3})", acc.precision(), acc.recall());
+            }
+            out += ";";
+        }
+        out += "\n";
+    }
+    out
 }
 
 fn file_size(path: &Path) -> String {
@@ -492,7 +664,7 @@ fn dump_frame(
     dir: &Path,
     k: usize,
     scenario: &str,
-    pipes: &[Pipeline],
+    pipes: &[&Pipeline],
     positions: &[cornertree::geometry::Point],
     character: &cornertree::character::Character,
     env: &cornertree::mesh::TriMesh,

@@ -65,16 +65,16 @@ fn variant(
     environment_vertices: Option<usize>,
 ) -> anyhow::Result<cornertree::scenario::Resolved> {
     let mut s = s.clone();
-    let seed = match &s.character.source {
+    let seed = match &s.first_character_mut().character.source {
         CharacterSource::Humanoid(h) => h.seed,
         CharacterSource::File(_) => 0,
     };
-    s.character.source = CharacterSource::Humanoid(HumanoidParams {
+    s.first_character_mut().character.source = CharacterSource::Humanoid(HumanoidParams {
         vertices: character_vertices,
         seed,
     });
-    if s.character.clip.is_none() {
-        s.character.clip = Some("walk".into());
+    if s.first_character_mut().character.clip.is_none() {
+        s.first_character_mut().character.clip = Some("walk".into());
     }
     if let Some(n) = environment_vertices {
         match &mut s.environment {

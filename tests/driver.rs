@@ -219,14 +219,14 @@ fn the_visit_log_changes_no_counter() {
     let r = cornertree::scenario::open_scenario(&path).unwrap();
     let env = &r.environment.mesh;
     for m in Method::ALL {
-        let mut plain = Pipeline::new(&r.character, env, m, r.pipeline_options());
-        let mut logged = Pipeline::new(&r.character, env, m, r.pipeline_options());
+        let mut plain = Pipeline::new(&r.first().character, env, m, r.pipeline_options(r.first()));
+        let mut logged = Pipeline::new(&r.first().character, env, m, r.pipeline_options(r.first()));
         logged.set_visit_log(true);
-        let mut b = PoseBuffers::new(&r.character);
+        let mut b = PoseBuffers::new(&r.first().character);
         for k in 0..3 {
-            r.pose_frame(&mut b, k);
-            let mut c0 = plain.detect(&b, &r.character, env);
-            let mut c1 = logged.detect(&b, &r.character, env);
+            r.first().pose_frame(&mut b, k);
+            let mut c0 = plain.detect(&b, &r.first().character, env);
+            let mut c1 = logged.detect(&b, &r.first().character, env);
             c0.time = Default::default();
             c1.time = Default::default();
             assert_eq!(c0, c1, "{m} frame {k}");

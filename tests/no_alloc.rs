@@ -37,26 +37,26 @@ static GLOBAL: Counting = Counting;
 fn frames_after_the_first_allocate_nothing() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
     let r = open_scenario(&path).unwrap();
-    let options = r.pipeline_options();
+    let options = r.pipeline_options(r.first());
     let env = &r.environment.mesh;
     // Every method, without and with the visit log a recorder turns on.
     let mut pipes: Vec<Pipeline> = Vec::new();
     for log in [false, true] {
         for m in Method::ALL {
-            let mut p = Pipeline::new(&r.character, env, m, options);
+            let mut p = Pipeline::new(&r.first().character, env, m, options);
             p.set_visit_log(log);
             pipes.push(p);
         }
     }
-    let mut buffers = PoseBuffers::new(&r.character);
+    let mut buffers = PoseBuffers::new(&r.first().character);
     let frames = 12;
     let mut per_frame = Vec::with_capacity(frames);
     for k in 0..frames {
         let before = ALLOCATIONS.load(Ordering::Relaxed);
-        r.pose_frame(&mut buffers, k);
+        r.first().pose_frame(&mut buffers, k);
         let mut pairs = 0;
         for p in &mut pipes {
-            pairs += p.detect(&buffers, &r.character, env).pairs;
+            pairs += p.detect(&buffers, &r.first().character, env).pairs;
         }
         per_frame.push(ALLOCATIONS.load(Ordering::Relaxed) - before);
         assert!(pairs > 0, "frame {k} has contacts");

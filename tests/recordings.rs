@@ -72,10 +72,10 @@ fn mesh_positions() -> rerun::ComponentIdentifier {
 fn cesium_pipeline(method: Method) -> (cornertree::scenario::Resolved, Pipeline) {
     let r = open_scenario(&cesium_scenario()).unwrap();
     let p = Pipeline::new(
-        &r.character,
+        &r.first().character,
         &r.environment.mesh,
         method,
-        r.pipeline_options(),
+        r.pipeline_options(r.first()),
     );
     (r, p)
 }
@@ -176,7 +176,11 @@ fn run_recording_has_the_layout_and_the_reported_values() {
     );
     // The character's mesh every frame, every vertex.
     for (t, n) in rrd.counts_per_frame(layout::AVATAR_MESH, mesh_positions()) {
-        assert_eq!(n, resolved.character.mesh.vertex_count(), "frame {t}");
+        assert_eq!(
+            n,
+            resolved.first().character.mesh.vertex_count(),
+            "frame {t}"
+        );
     }
 
     // Character spheres shown = spheres refit this frame (visited on demand).
@@ -349,16 +353,21 @@ impl Hierarchy for Marking<'_> {
 /// the same pose with a refit state of its own.
 fn measure(r: &Resolved, method: Method, frames: usize) -> (Pipeline, Vec<Measured>) {
     let env = &r.environment.mesh;
-    let mut p = Pipeline::new(&r.character, env, method, r.pipeline_options());
+    let mut p = Pipeline::new(
+        &r.first().character,
+        env,
+        method,
+        r.pipeline_options(r.first()),
+    );
     p.set_visit_log(true);
-    let mut own = RefitState::new(&p.character_tree, r.character.skeleton.len());
+    let mut own = RefitState::new(&p.character_tree, r.first().character.skeleton.len());
     let mut ws = Workspace::new();
-    let mut buffers = PoseBuffers::new(&r.character);
+    let mut buffers = PoseBuffers::new(&r.first().character);
     let parents = p.environment.tree.parents();
     let mut out = Vec::new();
     for k in 0..frames {
-        r.pose_frame(&mut buffers, k);
-        let counters = p.detect(&buffers, &r.character, env);
+        r.first().pose_frame(&mut buffers, k);
+        let counters = p.detect(&buffers, &r.first().character, env);
         let log = p.visit_log().expect("the log is on");
         let tested: BTreeSet<u32> = log.tested_nodes().map(|n| n.0).collect();
         for n in &tested {

@@ -19,12 +19,12 @@ fn shipped(name: &str) -> PathBuf {
 /// the south wall, whose plane is z = 0 with the room at z > 0), minimum world
 /// y, and frames with some vertex at z < 0.
 fn south_wall_extremes(r: &Resolved) -> (f64, f64, usize) {
-    let mut buffers = PoseBuffers::new(&r.character);
+    let mut buffers = PoseBuffers::new(&r.first().character);
     let (mut zmin, mut ymin, mut behind) = (f64::INFINITY, f64::INFINITY, 0);
     for k in 0..r.frames() {
-        buffers.pose(&r.character, r.clip(), r.time_at(k));
-        buffers.skin_all(&r.character, r.skinning);
-        let iso = r.placement_at(k);
+        buffers.pose(&r.first().character, r.first().clip(), r.first().time_at(k));
+        buffers.skin_all(&r.first().character, r.first().skinning);
+        let iso = r.first().placement_at(k);
         let mut frame_zmin = f64::INFINITY;
         for p in &buffers.positions {
             let w = iso * p;
@@ -40,7 +40,7 @@ fn south_wall_extremes(r: &Resolved) -> (f64, f64, usize) {
 fn check_gap(file: &str, expect_frames: Option<usize>) -> (Resolved, f64, usize) {
     let path = shipped(file);
     let s = load_scenario(&path).unwrap_or_else(|e| panic!("{e}"));
-    let Placement::Gap(g) = &s.placement else {
+    let Placement::Gap(g) = &s.first_character().placement else {
         panic!("{file}: not a gap placement")
     };
     assert_eq!(g.surface, "south wall");
@@ -50,11 +50,11 @@ fn check_gap(file: &str, expect_frames: Option<usize>) -> (Resolved, f64, usize)
     }
     assert!(r.frames() > 1, "{file}: {} frames", r.frames());
     let (zmin, ymin, behind) = south_wall_extremes(&r);
-    let report = r.gap.as_ref().expect("gap report");
+    let report = r.first().gap.as_ref().expect("gap report");
     eprintln!(
         "{file}: {} vertices, {} frames; gap asked {} m, recomputed {zmin:.6} m (report {:.6} m, closest frame {}), \
          lowest y {ymin:.6}, frames behind the wall {behind}/{}",
-        r.character.mesh.vertex_count(),
+        r.first().character.mesh.vertex_count(),
         r.frames(),
         g.metres,
         report.achieved,
@@ -85,18 +85,18 @@ fn check_gap(file: &str, expect_frames: Option<usize>) -> (Resolved, f64, usize)
 #[test]
 fn museum_paper_scale_keeps_5_mm() {
     let (r, _, behind) = check_gap("museum.toml", None);
-    assert_eq!(r.character.mesh.vertex_count(), 44_345);
+    assert_eq!(r.first().character.mesh.vertex_count(), 44_345);
     assert_eq!(r.methods, Method::ALL.to_vec());
     assert_eq!(behind, 0);
     // Centred along the 20 m wall.
-    let x = r.placement_at(0).translation.vector.x;
+    let x = r.first().placement_at(0).translation.vector.x;
     assert!((5.0..15.0).contains(&x), "x = {x}");
 }
 
 #[test]
 fn living_room_paper_scale_keeps_5_mm() {
     let (r, _, behind) = check_gap("living_room.toml", None);
-    assert_eq!(r.character.mesh.vertex_count(), 44_345);
+    assert_eq!(r.first().character.mesh.vertex_count(), 44_345);
     assert_eq!(behind, 0);
 }
 
@@ -120,7 +120,7 @@ fn touching_penetrates_most_frames() {
         "only {behind} of {} frames penetrate",
         r.frames()
     );
-    assert_eq!(r.gap.as_ref().unwrap().penetrating_frames, behind);
+    assert_eq!(r.first().gap.as_ref().unwrap().penetrating_frames, behind);
 }
 
 #[test]
@@ -136,6 +136,10 @@ fn every_shipped_scenario_is_tested() {
         [
             "brainstem.toml",
             "cesium_man.toml",
+            // The worlds: tests/worlds.rs.
+            "crowd.toml",
+            "door.toml",
+            "handshake.toml",
             "living_room.toml",
             "museum.toml",
             "touching.toml"
@@ -191,7 +195,7 @@ fn the_good_text_resolves() {
     let s = load_scenario(&path).unwrap();
     assert_eq!((s.fps, s.dedup, s.frames), (30.0, true, None));
     let r = resolve(&s, &temp_dir()).unwrap();
-    assert!((r.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+    assert!((r.first().gap.as_ref().unwrap().achieved - 0.01).abs() < 1e-4);
 }
 
 #[test]
@@ -295,7 +299,7 @@ fn path_walks_facing_the_direction() {
     std::fs::write(&path, text).unwrap();
     let r = resolve(&load_scenario(&path).unwrap(), &temp_dir()).unwrap();
     // Frame 30 at 30 fps: 1.5 m along the first leg, facing +X.
-    let iso = r.placement_at(30);
+    let iso = r.first().placement_at(30);
     assert!((iso.translation.vector - nalgebra::Vector3::new(2.5, 0.0, 1.0)).norm() < 1e-5);
     let forward = iso.rotation * nalgebra::Vector3::z();
     assert!(
@@ -304,11 +308,13 @@ fn path_walks_facing_the_direction() {
     );
     // Frame 90: 4.5 m = 3 m + 1.5 m up the second leg, facing +Z; long after: the end.
     assert!(
-        (r.placement_at(90).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 2.5)).norm()
+        (r.first().placement_at(90).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 2.5))
+            .norm()
             < 1e-5
     );
     assert!(
-        (r.placement_at(1000).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 3.0)).norm()
+        (r.first().placement_at(1000).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 3.0))
+            .norm()
             < 1e-5
     );
 }
@@ -325,7 +331,7 @@ fn environment_vertices_retessellates_the_generated_room() {
     let r = resolve(&s, &temp_dir()).unwrap();
     assert_eq!(r.environment.mesh.positions().len(), 20_000);
     // Same layout: the placement rule still finds the south wall.
-    assert!((r.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+    assert!((r.first().gap.as_ref().unwrap().achieved - 0.01).abs() < 1e-4);
 
     // Bad sizes are named at their line; a glTF scene takes none.
     for (name, value) in [
@@ -370,12 +376,13 @@ fn gap_along_moves_the_character_along_the_wall() {
         &GOOD.replace("metres = 0.01 }", "metres = 0.01, along = -1.25 }"),
     );
     // The south wall's horizontal direction is +x (up × its normal +z).
-    let d = moved.placement_at(0).translation.vector - centred.placement_at(0).translation.vector;
+    let d = moved.first().placement_at(0).translation.vector
+        - centred.first().placement_at(0).translation.vector;
     assert!(
         (d.x + 1.25).abs() < 1e-4 && d.y.abs() < 1e-4 && d.z.abs() < 1e-4,
         "{d:?}"
     );
-    assert!((moved.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+    assert!((moved.first().gap.as_ref().unwrap().achieved - 0.01).abs() < 1e-4);
 
     let (path, msg) = error_of(
         "along_nan.toml",
@@ -405,7 +412,7 @@ fn subdivide_splits_the_named_objects() {
         2 * 4
     );
     // The wall's plane is unchanged, so the gap is kept.
-    assert!((r.gap.unwrap().achieved - 0.01).abs() < 1e-4);
+    assert!((r.first().gap.as_ref().unwrap().achieved - 0.01).abs() < 1e-4);
 
     for (name, entry) in [
         ("split_unknown.toml", "{ object = \"no wall\", times = 1 }"),

@@ -202,6 +202,52 @@ impl Environment {
         }
     }
 
+    /// The room without its moving objects, and each moving object apart:
+    /// its name, its mesh (rest pose, room coordinates) and its motion.
+    /// Triangles of the static part keep their order.
+    pub fn split_moving(&self) -> (Environment, Vec<(String, TriMesh, RigidMotion)>) {
+        let pos = self.mesh.positions();
+        let idx = self.mesh.indices();
+        let sub = |o: &EnvObject| {
+            let v0 = o.vertices.start;
+            let positions = pos[o.vertices.start as usize..o.vertices.end as usize].to_vec();
+            let triangles = idx[o.triangles.start as usize..o.triangles.end as usize]
+                .iter()
+                .map(|t| t.map(|i| i - v0))
+                .collect();
+            TriMesh::new(positions, triangles).expect("an object's triangles use its own vertices")
+        };
+        let mut moving = Vec::new();
+        let mut positions = Vec::with_capacity(pos.len());
+        let mut triangles = Vec::with_capacity(idx.len());
+        let mut objects = Vec::with_capacity(self.objects.len());
+        for o in &self.objects {
+            if let Some(m) = o.motion {
+                moving.push((o.name.clone(), sub(o), m));
+                continue;
+            }
+            let v0 = positions.len() as u32;
+            let t0 = triangles.len() as u32;
+            positions.extend_from_slice(&pos[o.vertices.start as usize..o.vertices.end as usize]);
+            triangles.extend(
+                idx[o.triangles.start as usize..o.triangles.end as usize]
+                    .iter()
+                    .map(|t| t.map(|i| i - o.vertices.start + v0)),
+            );
+            objects.push(EnvObject {
+                vertices: v0..positions.len() as u32,
+                triangles: t0..triangles.len() as u32,
+                ..o.clone()
+            });
+        }
+        let room = Environment {
+            name: self.name.clone(),
+            mesh: TriMesh::new(positions, triangles).expect("objects use their own vertices"),
+            objects,
+        };
+        (room, moving)
+    }
+
     /// Objects that move.
     pub fn moving_objects(&self) -> impl Iterator<Item = &EnvObject> + '_ {
         self.objects.iter().filter(|o| o.motion.is_some())

@@ -19,6 +19,7 @@
 //! environment nodes it tests ([`super::visit_log`]); otherwise its log is a
 //! zero-sized no-op and the timed code is what it was.
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::Matrix4;
@@ -97,30 +98,33 @@ pub struct PipelineOptions {
 pub struct Pipeline {
     pub method: Method,
     pub character_tree: CharacterTree,
-    pub environment: EnvironmentTree,
-    refit: RefitState,
-    skin: OnDemandSkin,
-    workspace: Workspace,
+    /// The room's hierarchy, shared by every character of a world.
+    pub environment: Arc<EnvironmentTree>,
+    pub(super) refit: RefitState,
+    pub(super) skin: OnDemandSkin,
+    pub(super) workspace: Workspace,
     leaf_pairs: Vec<LeafPair>,
-    /// This frame's colliding pairs, sorted, distinct.
+    /// Leaf pairs of the last pass against a moving object.
+    pub(super) object_leaf_pairs: Vec<LeafPair>,
+    /// This frame's colliding pairs with the room, sorted, distinct.
     pub pairs: Vec<(u32, u32)>,
     /// Whether the first frame has sized the buffers.
     warmed_up: bool,
     /// Whether refit time is measured apart from traversal.
-    time_refit: bool,
+    pub(super) time_refit: bool,
     /// The environment nodes this frame's traversal tested, when asked for.
     visits: Option<TestedNodes>,
-    options: PipelineOptions,
+    pub(super) options: PipelineOptions,
 }
 
 /// [`Hierarchy`] over the character tree that refits on first request and,
 /// if `TIMED`, counts the time-stamp ticks spent refitting (two `rdtsc` per
 /// refit: a quarter of the traversal's time on a virtual machine, so `bench`
 /// turns it off).
-struct TimedRefit<'a, const TIMED: bool> {
-    refitter: Refitter<'a>,
-    base: Matrix4<f32>,
-    ticks: u64,
+pub(super) struct TimedRefit<'a, const TIMED: bool> {
+    pub(super) refitter: Refitter<'a>,
+    pub(super) base: Matrix4<f32>,
+    pub(super) ticks: u64,
 }
 
 impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
@@ -145,7 +149,7 @@ impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
 }
 
 #[inline]
-fn ticks() -> u64 {
+pub(super) fn ticks() -> u64 {
     #[cfg(target_arch = "x86_64")]
     {
         // SAFETY: RDTSC has no preconditions on x86_64.
@@ -172,10 +176,27 @@ impl Pipeline {
         } else {
             EdgeDedup::keep_all(&character.mesh)
         };
+        let environment = Arc::new(EnvironmentTree::build(
+            environment,
+            method,
+            options.threshold,
+            options.build,
+        ));
+        Self::with_environment(character, environment, method, options, &dedup)
+    }
+
+    /// A pipeline for `character` against a room hierarchy already built
+    /// for `method` (shared between the characters of a world); `dedup` is
+    /// the character's edge de-duplication (keep-all when off).
+    pub fn with_environment(
+        character: &Character,
+        environment: Arc<EnvironmentTree>,
+        method: Method,
+        options: PipelineOptions,
+        dedup: &EdgeDedup,
+    ) -> Self {
         let character_tree =
-            CharacterTree::build(character, &dedup, options.skinning, options.build);
-        let environment =
-            EnvironmentTree::build(environment, method, options.threshold, options.build);
+            CharacterTree::build(character, dedup, options.skinning, options.build);
         let refit = RefitState::new(&character_tree, character.skeleton.len());
         Self {
             method,
@@ -185,6 +206,7 @@ impl Pipeline {
             skin: OnDemandSkin::new(character.mesh.positions().len()),
             workspace: Workspace::new(),
             leaf_pairs: Vec::new(),
+            object_leaf_pairs: Vec::new(),
             pairs: Vec::new(),
             warmed_up: false,
             time_refit: true,
@@ -208,6 +230,28 @@ impl Pipeline {
     /// `env` (positions may differ from the build pose only for static
     /// content; moving objects are not re-fit here).
     pub fn detect(
+        &mut self,
+        buffers: &PoseBuffers,
+        character: &Character,
+        env: &TriMesh,
+    ) -> FrameCounters {
+        self.begin_frame(buffers);
+        self.detect_room(buffers, character, env)
+    }
+
+    /// Starts a frame: every sphere and skinned vertex of the last frame is
+    /// stale from here on (refit and skinning then happen on demand in the
+    /// passes of this frame, each at most once).
+    pub fn begin_frame(&mut self, buffers: &PoseBuffers) {
+        self.refit
+            .begin_frame_with_base(&buffers.skin, &buffers.base);
+        self.skin.begin_frame();
+    }
+
+    /// The pass against the room, after [`Self::begin_frame`]: fills
+    /// [`Self::pairs`]. Refits and skinned vertices are counted from the
+    /// frame's start.
+    pub fn detect_room(
         &mut self,
         buffers: &PoseBuffers,
         character: &Character,
@@ -248,7 +292,6 @@ impl Pipeline {
         let t0 = Instant::now();
         let model = self.options.skinning;
         let indices = character.mesh.indices();
-        self.skin.begin_frame();
         let all_tri_tri = self.method.big_leaf_test() == LeafTest::TriTri;
         if all_tri_tri && 3 * self.leaf_pairs.len() > 4 * character.mesh.positions().len() {
             self.skin.skin_all(buffers, character, model);
@@ -318,8 +361,6 @@ impl Pipeline {
         buffers: &PoseBuffers,
         log: &mut L,
     ) -> (TraversalStats, u64, u64) {
-        self.refit
-            .begin_frame_with_base(&buffers.skin, &buffers.base);
         let mut od = TimedRefit::<TIMED> {
             refitter: Refitter {
                 tree: &self.character_tree,

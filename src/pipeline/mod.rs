@@ -8,6 +8,7 @@
 //! | [`environment_tree`] | the environment's sphere tree with big-triangle hierarchies grafted in | §5 |
 //! | [`visit_log`] | which environment nodes the timed traversal tested (for recordings) | §3 |
 
+pub mod bodies;
 pub mod driver;
 pub mod environment_tree;
 pub mod method;

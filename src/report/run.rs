@@ -7,10 +7,12 @@ use serde::Serialize;
 
 use crate::pipeline::Method;
 use crate::pipeline::driver::FrameCounters;
+use crate::truth::WorldPairs;
 use crate::truth::{
-    AccuracyTotals, Classified, Disagreement, FalseNegative, FalsePositive, FrameAccuracy,
-    MethodTruth,
+    Accuracy, AccuracyTotals, Classified, Disagreement, FalseNegative, FalsePositive,
+    FrameAccuracy, MethodTruth,
 };
+use crate::world::{ByKind, MethodOutcome};
 
 /// How many differences of each kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -122,6 +124,73 @@ pub struct FrameRecord {
     /// Against the ground truth (absent with `--no-truth`).
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     pub truth: Option<TruthRecord>,
+    /// In a world (several characters, or moving objects): counters, pairs
+    /// and accuracy per pair kind; `pairs` is then empty.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    pub world: Option<WorldFrameRecord>,
+}
+
+/// Tests and pairs of one pair kind in one frame.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct KindRecord {
+    pub sphere_sphere: u64,
+    pub tri_tri: u64,
+    pub plane_sphere: u64,
+    pub operations: u64,
+    pub pairs: u64,
+}
+
+impl KindRecord {
+    pub fn of(c: &FrameCounters) -> Self {
+        Self {
+            sphere_sphere: c.sphere_sphere,
+            tri_tri: c.tri_tri,
+            plane_sphere: c.plane_sphere,
+            operations: c.operations(),
+            pairs: c.pairs,
+        }
+    }
+}
+
+/// One frame of a world, per pair kind.
+#[derive(Clone, Debug, Serialize)]
+pub struct WorldFrameRecord {
+    pub by_kind: ByKind<KindRecord>,
+    /// Root-sphere tests of the world's broad phase.
+    pub broad_phase_tests: u64,
+    /// Body pairs traversed (character-object, character-character).
+    pub body_pairs: u64,
+    /// Wall-clock milliseconds of the method's frame on `threads` threads.
+    pub wall_ms: f64,
+    pub pairs_by_kind: WorldPairs,
+    /// The method's pairs against the exact ones, per kind (absent with `--no-truth`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub accuracy_by_kind: Option<ByKind<Accuracy>>,
+    /// parry's pairs against the exact ones, per kind.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parry_accuracy_by_kind: Option<ByKind<Accuracy>>,
+}
+
+impl WorldFrameRecord {
+    pub fn new(o: &MethodOutcome) -> Self {
+        Self {
+            by_kind: ByKind {
+                environment: KindRecord::of(&o.by_kind.environment),
+                objects: KindRecord::of(&o.by_kind.objects),
+                characters: KindRecord::of(&o.by_kind.characters),
+            },
+            broad_phase_tests: o.broad_phase_tests,
+            body_pairs: o.body_pairs,
+            wall_ms: o.wall_ms,
+            pairs_by_kind: WorldPairs {
+                environment: o.room_pairs.clone(),
+                objects: o.object_pairs.clone(),
+                characters: o.character_pairs.clone(),
+            },
+            accuracy_by_kind: None,
+            parry_accuracy_by_kind: None,
+        }
+    }
 }
 
 impl FrameRecord {
@@ -142,6 +211,7 @@ impl FrameRecord {
             narrow_ms: c.time.narrow_ms,
             pairs: pairs.iter().map(|&(a, b)| [a, b]).collect(),
             truth: None,
+            world: None,
         }
     }
 }
@@ -216,7 +286,18 @@ impl MethodRun {
             operations: stat(f.iter().map(|x| x.operations as f64)),
             refits: stat(f.iter().map(|x| x.refits as f64)),
             time_ms: stat(f.iter().map(|x| x.time_ms)),
-            frames_with_contact: f.iter().filter(|x| !x.pairs.is_empty()).count(),
+            frames_with_contact: f
+                .iter()
+                .filter(|x| {
+                    !x.pairs.is_empty()
+                        || x.world.as_ref().is_some_and(|w| {
+                            w.by_kind.environment.pairs
+                                + w.by_kind.objects.pairs
+                                + w.by_kind.characters.pairs
+                                > 0
+                        })
+                })
+                .count(),
             accuracy: self.truth_totals(|t, acc: &mut AccuracyTotals| acc.add(&t.accuracy)),
             vs_parry: self.truth_totals(|t, d: &mut DisagreementCounts| d.add(&t.vs_parry)),
             parry_vs_exact: self

@@ -11,6 +11,7 @@
 //! column when the TOML parser reports a span (its own errors quote the
 //! offending line instead of a field). Nothing here panics on bad input.
 
+pub mod objects;
 pub mod resolve;
 
 use std::fmt;
@@ -25,7 +26,8 @@ use crate::geometry::Real;
 use crate::io::CharacterSource;
 use crate::pipeline::{DEFAULT_THRESHOLD, Method};
 
-pub use resolve::{GapReport, PlacementPlan, Resolved, resolve};
+pub use objects::{ObjectEntry, ObjectShape};
+pub use resolve::{Actor, GapReport, PlacementPlan, Prop, Resolved, resolve};
 
 /// A scenario as read from a file; asset paths are as found on disk (see
 /// [`load_scenario`]).
@@ -33,9 +35,14 @@ pub use resolve::{GapReport, PlacementPlan, Resolved, resolve};
 pub struct Scenario {
     /// The file it was read from (for messages); empty for [`Scenario::parse`] of a string without a name.
     pub file: PathBuf,
-    pub character: CharacterSection,
+    /// `[[characters]]`, or the one `[character]` with its `[placement]`
+    /// (named `"character"`); never empty.
+    pub characters: Vec<CharacterEntry>,
+    /// `[[objects]]`: rigid bodies moving through the room.
+    pub objects: Vec<ObjectEntry>,
     pub environment: EnvironmentSection,
-    pub placement: Placement,
+    /// `[environment] doors`: whether the room's doors stay shut or swing.
+    pub doors: Doors,
     /// Frames to play; `None`: every frame of the clip at `fps`.
     pub frames: Option<usize>,
     pub fps: Real,
@@ -47,8 +54,46 @@ pub struct Scenario {
     pub recording: Recording,
     /// `[environment] subdivide`, applied in order to the room once built.
     pub subdivide: Vec<SubdivideObject>,
-    /// Where `placement.gap.surface` was written, for messages of [`resolve()`].
+}
+
+/// One character of a scenario: what it is, which clip, where.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CharacterEntry {
+    /// Unique among the scenario's characters.
+    pub name: String,
+    pub character: CharacterSection,
+    pub placement: Placement,
+    /// Seconds added to the world time before the clip is sampled (so two
+    /// copies of one clip are out of step).
+    pub clip_offset: Real,
+    /// Where this entry's `placement.gap` was written, for messages of [`resolve()`].
     pub(crate) surface_at: Option<Location>,
+    /// The entry's field prefix in messages (`character` or `characters[2]`).
+    pub(crate) field: String,
+}
+
+impl Scenario {
+    /// The first character (a scenario has at least one).
+    pub fn first_character(&self) -> &CharacterEntry {
+        &self.characters[0]
+    }
+
+    /// The first character, to change it.
+    pub fn first_character_mut(&mut self) -> &mut CharacterEntry {
+        &mut self.characters[0]
+    }
+}
+
+/// `[environment] doors`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Doors {
+    /// The room's doors are part of the static room, shut (as the paper's
+    /// tables are measured).
+    #[default]
+    Closed,
+    /// Each of the room's doors is a moving object swinging on its hinge.
+    Swing,
 }
 
 /// `[character]`.
@@ -256,9 +301,11 @@ fn line_text(text: &str, offset: usize) -> String {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawScenario {
-    character: RawCharacter,
+    character: Option<Spanned<RawCharacter>>,
+    characters: Option<Vec<Spanned<RawCharacterEntry>>>,
+    objects: Option<Vec<Spanned<objects::RawObject>>>,
     environment: Spanned<RawEnvironment>,
-    placement: Spanned<RawPlacement>,
+    placement: Option<Spanned<RawPlacement>>,
     frames: Option<Spanned<i64>>,
     fps: Option<Spanned<f64>>,
     methods: Option<Spanned<Vec<Method>>>,
@@ -275,6 +322,18 @@ struct RawCharacter {
     clip: Option<String>,
     #[serde(default = "linear")]
     skinning: SkinningModel,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCharacterEntry {
+    name: Spanned<String>,
+    source: Spanned<String>,
+    clip: Option<String>,
+    #[serde(default = "linear")]
+    skinning: SkinningModel,
+    placement: Spanned<RawPlacement>,
+    clip_offset: Option<Spanned<f64>>,
 }
 
 fn linear() -> SkinningModel {
@@ -298,6 +357,8 @@ struct RawEnvironment {
     path: Option<Spanned<String>>,
     #[serde(default)]
     subdivide: Vec<SubdivideObject>,
+    #[serde(default)]
+    doors: Doors,
 }
 
 #[derive(Deserialize)]
@@ -330,27 +391,127 @@ impl Scenario {
         })?;
         let base = file.parent().unwrap_or(Path::new(""));
 
-        // [character]
-        let src = &raw.character.source;
-        let mut source: CharacterSource =
-            src.get_ref().parse().map_err(|e: crate::io::SourceError| {
-                err_at(src.span(), "character.source", e.to_string())
-            })?;
-        if let CharacterSource::File(p) = &source {
-            let found = find_asset(base, p)
-                .ok_or_else(|| err_at(src.span(), "character.source", missing(base, p)))?;
-            source = CharacterSource::File(found);
-        }
-        let character = CharacterSection {
-            source,
-            clip: raw.character.clip,
-            skinning: raw.character.skinning,
+        // The characters: `[character]` with `[placement]`, or `[[characters]]`.
+        let characters = match (raw.character, raw.characters) {
+            (Some(c), None) => {
+                let Some(pl) = raw.placement else {
+                    return Err(err_at(
+                        c.span(),
+                        "placement",
+                        "[character] needs a [placement] table".into(),
+                    ));
+                };
+                let c = c.into_inner();
+                let character = character_section(
+                    text,
+                    file,
+                    base,
+                    "character",
+                    &c.source,
+                    c.clip,
+                    c.skinning,
+                )?;
+                let (placement, surface_at) = placement(text, file, "placement", pl)?;
+                vec![CharacterEntry {
+                    name: "character".into(),
+                    character,
+                    placement,
+                    clip_offset: 0.0,
+                    surface_at,
+                    field: "character".into(),
+                }]
+            }
+            (None, Some(list)) => {
+                if let Some(pl) = &raw.placement {
+                    return Err(err_at(
+                        pl.span(),
+                        "placement",
+                        "with [[characters]], each character has its own placement".into(),
+                    ));
+                }
+                if list.is_empty() {
+                    return Err(ScenarioError::new(
+                        file,
+                        None,
+                        Some("characters"),
+                        "needs at least one character",
+                    ));
+                }
+                let mut out: Vec<CharacterEntry> = Vec::with_capacity(list.len());
+                for (i, entry) in list.into_iter().enumerate() {
+                    let span = entry.span();
+                    let e = entry.into_inner();
+                    let prefix = format!("characters[{i}]");
+                    let name = e.name.get_ref().trim().to_owned();
+                    if name.is_empty() {
+                        return Err(err_at(
+                            e.name.span(),
+                            &format!("{prefix}.name"),
+                            "must not be empty".into(),
+                        ));
+                    }
+                    if let Some(j) = out.iter().position(|o| o.name == name) {
+                        return Err(err_at(
+                            e.name.span(),
+                            &format!("{prefix}.name"),
+                            format!(
+                                "two characters named {name:?} (characters[{j}] and characters[{i}])"
+                            ),
+                        ));
+                    }
+                    let character = character_section(
+                        text, file, base, &prefix, &e.source, e.clip, e.skinning,
+                    )?;
+                    let (placement, surface_at) =
+                        placement(text, file, &format!("{prefix}.placement"), e.placement)?;
+                    let clip_offset = match e.clip_offset {
+                        None => 0.0,
+                        Some(o) if o.get_ref().is_finite() && o.get_ref().abs() <= 1e6 => {
+                            *o.get_ref() as Real
+                        }
+                        Some(o) => {
+                            return Err(err_at(
+                                o.span(),
+                                &format!("{prefix}.clip_offset"),
+                                format!("must be finite seconds within ±1e6, not {}", o.get_ref()),
+                            ));
+                        }
+                    };
+                    let _ = span;
+                    out.push(CharacterEntry {
+                        name,
+                        character,
+                        placement,
+                        clip_offset,
+                        surface_at,
+                        field: prefix,
+                    });
+                }
+                out
+            }
+            (Some(c), Some(_)) => {
+                return Err(err_at(
+                    c.span(),
+                    "character",
+                    "give either [character] or [[characters]], not both".into(),
+                ));
+            }
+            (None, None) => {
+                return Err(ScenarioError::new(
+                    file,
+                    None,
+                    Some("characters"),
+                    "no character: give [character] with [placement], or [[characters]]",
+                ));
+            }
         };
+        let objects = objects::parse_objects(text, file, base, raw.objects.unwrap_or_default())?;
 
         // [environment]
         let env_span = raw.environment.span();
         let env = raw.environment.into_inner();
         let subdivide = env.subdivide.clone();
+        let doors = env.doors;
         let environment = match env.kind {
             EnvKind::Museum | EnvKind::LivingRoom => {
                 if let Some(p) = &env.path {
@@ -405,80 +566,6 @@ impl Scenario {
                     .ok_or_else(|| err_at(p.span(), "environment.path", missing(base, &path)))?;
                 EnvironmentSection::Gltf { path: found }
             }
-        };
-
-        // [placement]
-        let pl_span = raw.placement.span();
-        let pl = raw.placement.into_inner();
-        let count = usize::from(pl.start.is_some())
-            + usize::from(pl.path.is_some())
-            + usize::from(pl.gap.is_some());
-        if count != 1 {
-            return Err(err_at(
-                pl_span,
-                "placement",
-                format!("give exactly one of start, path, gap (found {count})"),
-            ));
-        }
-        let mut surface_at = None;
-        let placement = if let Some(t) = pl.start {
-            if !t
-                .translation
-                .iter()
-                .chain([&t.yaw_degrees])
-                .all(|v| v.is_finite())
-            {
-                return Err(err_at(
-                    pl_span,
-                    "placement.start",
-                    "translation and yaw must be finite".into(),
-                ));
-            }
-            Placement::Start(t)
-        } else if let Some(p) = pl.path {
-            let span = p.span();
-            let w = p.into_inner();
-            if w.waypoints.is_empty() {
-                return Err(err_at(
-                    span,
-                    "placement.path.waypoints",
-                    "needs at least one waypoint".into(),
-                ));
-            }
-            if !w.waypoints.iter().flatten().all(|v| v.is_finite()) {
-                return Err(err_at(
-                    span,
-                    "placement.path.waypoints",
-                    "coordinates must be finite".into(),
-                ));
-            }
-            if !(w.speed.is_finite() && w.speed > 0.0) {
-                return Err(err_at(
-                    span,
-                    "placement.path.speed",
-                    format!("must be positive, not {}", w.speed),
-                ));
-            }
-            Placement::Path(w)
-        } else {
-            let g = pl.gap.expect("counted above");
-            let span = g.span();
-            let g = g.into_inner();
-            for (field, value) in [
-                ("placement.gap.metres", Some(g.metres)),
-                ("placement.gap.along", Some(g.along)),
-                ("placement.gap.yaw_degrees", g.yaw_degrees),
-            ] {
-                if value.is_some_and(|v| !v.is_finite()) {
-                    return Err(err_at(
-                        span.clone(),
-                        field,
-                        "must be a finite number".into(),
-                    ));
-                }
-            }
-            surface_at = Some(locate(text, span.start));
-            Placement::Gap(g)
         };
 
         // Scalars.
@@ -544,9 +631,10 @@ impl Scenario {
 
         Ok(Scenario {
             file: file.to_owned(),
-            character,
+            characters,
+            objects,
             environment,
-            placement,
+            doors,
             frames,
             fps,
             methods,
@@ -554,7 +642,6 @@ impl Scenario {
             threshold,
             recording,
             subdivide,
-            surface_at,
         })
     }
 }
@@ -619,4 +706,120 @@ fn missing(base: &Path, path: &Path) -> String {
             dir.display()
         )
     }
+}
+
+/// `[character]` or one `[[characters]]` entry's character keys.
+fn character_section(
+    text: &str,
+    file: &Path,
+    base: &Path,
+    prefix: &str,
+    src: &Spanned<String>,
+    clip: Option<String>,
+    skinning: SkinningModel,
+) -> Result<CharacterSection, ScenarioError> {
+    let field = format!("{prefix}.source");
+    let err_at = |span: Range<usize>, msg: String| {
+        ScenarioError::new(file, Some(locate(text, span.start)), Some(&field), msg)
+    };
+    let mut source: CharacterSource = src
+        .get_ref()
+        .parse()
+        .map_err(|e: crate::io::SourceError| err_at(src.span(), e.to_string()))?;
+    if let CharacterSource::File(p) = &source {
+        let found = find_asset(base, p).ok_or_else(|| err_at(src.span(), missing(base, p)))?;
+        source = CharacterSource::File(found);
+    }
+    Ok(CharacterSection {
+        source,
+        clip,
+        skinning,
+    })
+}
+
+/// A `placement` table (`prefix` names it in messages): the placement and,
+/// for `gap`, where it was written.
+fn placement(
+    text: &str,
+    file: &Path,
+    prefix: &str,
+    raw: Spanned<RawPlacement>,
+) -> Result<(Placement, Option<Location>), ScenarioError> {
+    let err_at = |span: Range<usize>, field: &str, msg: String| {
+        ScenarioError::new(file, Some(locate(text, span.start)), Some(field), msg)
+    };
+    let f = |rest: &str| format!("{prefix}{rest}");
+    let pl_span = raw.span();
+    let pl = raw.into_inner();
+    let count = usize::from(pl.start.is_some())
+        + usize::from(pl.path.is_some())
+        + usize::from(pl.gap.is_some());
+    if count != 1 {
+        return Err(err_at(
+            pl_span,
+            &f(""),
+            format!("give exactly one of start, path, gap (found {count})"),
+        ));
+    }
+    let mut surface_at = None;
+    let placement = if let Some(t) = pl.start {
+        if !t
+            .translation
+            .iter()
+            .chain([&t.yaw_degrees])
+            .all(|v| v.is_finite())
+        {
+            return Err(err_at(
+                pl_span,
+                &f(".start"),
+                "translation and yaw must be finite".into(),
+            ));
+        }
+        Placement::Start(t)
+    } else if let Some(p) = pl.path {
+        let span = p.span();
+        let w = p.into_inner();
+        if w.waypoints.is_empty() {
+            return Err(err_at(
+                span,
+                &f(".path.waypoints"),
+                "needs at least one waypoint".into(),
+            ));
+        }
+        if !w.waypoints.iter().flatten().all(|v| v.is_finite()) {
+            return Err(err_at(
+                span,
+                &f(".path.waypoints"),
+                "coordinates must be finite".into(),
+            ));
+        }
+        if !(w.speed.is_finite() && w.speed > 0.0) {
+            return Err(err_at(
+                span,
+                &f(".path.speed"),
+                format!("must be positive, not {}", w.speed),
+            ));
+        }
+        Placement::Path(w)
+    } else {
+        let g = pl.gap.expect("counted above");
+        let span = g.span();
+        let g = g.into_inner();
+        for (field, value) in [
+            (&f(".gap.metres"), Some(g.metres)),
+            (&f(".gap.along"), Some(g.along)),
+            (&f(".gap.yaw_degrees"), g.yaw_degrees),
+        ] {
+            if value.is_some_and(|v| !v.is_finite()) {
+                return Err(err_at(
+                    span.clone(),
+                    field,
+                    "must be a finite number".into(),
+                ));
+            }
+        }
+        surface_at = Some(locate(text, span.start));
+        Placement::Gap(g)
+    };
+    Ok((placement, surface_at))
 }

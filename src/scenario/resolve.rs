@@ -27,27 +27,56 @@ use crate::pipeline::Method;
 use crate::pipeline::driver::{PipelineOptions, pose_frame};
 use crate::sphere_tree::BuildParams;
 
-use super::{EnvironmentSection, Gap, Placement, Recording, Scenario, ScenarioError};
+use super::objects::ObjectShape;
+use super::{
+    CharacterEntry, Doors, EnvironmentSection, Gap, Placement, Recording, Scenario, ScenarioError,
+};
+use crate::mesh::TriMesh;
+use crate::world::motion::Motion;
+use crate::world::shapes;
 
-/// A scenario made concrete.
+/// A scenario made concrete: the world's bodies, the room and the run's
+/// settings.
 #[derive(Clone, Debug)]
 pub struct Resolved {
-    pub character: Character,
+    /// At least one.
+    pub characters: Vec<Actor>,
+    /// Rigid moving bodies: `[[objects]]`, then the room's doors when they
+    /// swing.
+    pub objects: Vec<Prop>,
+    /// The static room (without its doors when they swing).
     pub environment: Environment,
-    /// Index of the clip in `character.clips`; `None` for a character without clips (rest pose).
-    pub clip_index: Option<usize>,
-    pub skinning: SkinningModel,
     pub fps: Real,
-    /// Clip time (seconds) of every frame: `start + k / fps`, wrapped around
-    /// the clip when more frames than the clip has are asked for.
-    pub times: Vec<Real>,
-    pub placement: PlacementPlan,
-    /// What the gap placement achieved, for `placement.gap`.
-    pub gap: Option<GapReport>,
+    /// Frames to play.
+    pub frames: usize,
     pub methods: Vec<Method>,
     pub dedup: bool,
     pub threshold: Real,
     pub recording: Recording,
+}
+
+/// One character of a world, with its clip and placement over the frames.
+#[derive(Clone, Debug)]
+pub struct Actor {
+    pub name: String,
+    pub character: Character,
+    /// Index of the clip in `character.clips`; `None` for a character without clips (rest pose).
+    pub clip_index: Option<usize>,
+    pub skinning: SkinningModel,
+    /// Clip time (seconds) of every frame: `start + k / fps + clip_offset`,
+    /// wrapped around the clip when past its end.
+    pub times: Vec<Real>,
+    pub placement: PlacementPlan,
+    /// What the gap placement achieved, for `placement.gap`.
+    pub gap: Option<GapReport>,
+}
+
+/// A rigid moving body: its mesh in its own frame and its motion.
+#[derive(Clone, Debug)]
+pub struct Prop {
+    pub name: String,
+    pub mesh: TriMesh,
+    pub motion: Motion,
 }
 
 /// Where the character is, frame by frame.
@@ -81,11 +110,7 @@ pub struct GapReport {
     pub penetrating_frames: usize,
 }
 
-impl Resolved {
-    pub fn frames(&self) -> usize {
-        self.times.len()
-    }
-
+impl Actor {
     pub fn clip(&self) -> Option<&Clip> {
         self.clip_index.map(|i| &self.character.clips[i])
     }
@@ -102,16 +127,6 @@ impl Resolved {
     /// The character's world placement at `frame`: world = placement · model.
     pub fn placement_at(&self, frame: usize) -> Isometry3<Real> {
         self.placement.at(frame)
-    }
-
-    /// The pipeline settings this scenario asks for.
-    pub fn pipeline_options(&self) -> PipelineOptions {
-        PipelineOptions {
-            skinning: self.skinning,
-            dedup: self.dedup,
-            threshold: self.threshold,
-            build: BuildParams::default(),
-        }
     }
 
     /// Poses and places the character for `frame` into `buffers` (joint
@@ -133,6 +148,32 @@ impl Resolved {
         let t0 = std::time::Instant::now();
         buffers.skin_all(&self.character, self.skinning);
         (pose_ms, t0.elapsed().as_secs_f64() * 1e3)
+    }
+}
+
+impl Resolved {
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    /// The first character (a world has at least one).
+    pub fn first(&self) -> &Actor {
+        &self.characters[0]
+    }
+
+    /// The pipeline settings this scenario asks for, for `actor`.
+    pub fn pipeline_options(&self, actor: &Actor) -> PipelineOptions {
+        PipelineOptions {
+            skinning: actor.skinning,
+            dedup: self.dedup,
+            threshold: self.threshold,
+            build: BuildParams::default(),
+        }
+    }
+
+    /// World time (seconds) of `frame`.
+    pub fn world_time(&self, frame: usize) -> Real {
+        frame as Real / self.fps
     }
 }
 
@@ -187,22 +228,13 @@ fn asset(base: &Path, p: &Path) -> PathBuf {
     }
 }
 
-/// Loads the character and the room and works out frame times and placement.
-/// Relative asset paths are looked for in `base_dir`, then as given.
+/// Loads the characters, the objects and the room and works out frame times
+/// and placements. Relative asset paths are looked for in `base_dir`, then as
+/// given.
 pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError> {
     let file = s.file.as_path();
     let fail = |field: &str, msg: String| ScenarioError::new(file, None, Some(field), msg);
 
-    let character = match &s.character.source {
-        CharacterSource::File(p) => {
-            load_character(&asset(base_dir, p))
-                .map_err(|e| fail("character.source", e.to_string()))?
-                .0
-        }
-        CharacterSource::Humanoid(h) => {
-            generate_humanoid(h).map_err(|e| fail("character.source", e.to_string()))?
-        }
-    };
     let environment = match &s.environment {
         EnvironmentSection::Museum { seed, vertices } => match vertices {
             None => museum(*seed),
@@ -227,78 +259,161 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
             .subdivide_object(&sub.object, sub.times)
             .map_err(|e| fail("environment.subdivide", e.to_string()))?;
     }
-    let clip_index = match (&s.character.clip, character.clips.is_empty()) {
-        (None, true) => None,
-        (name, _) => {
-            let clip = character
-                .clip(name.as_deref())
-                .map_err(|e| fail("character.clip", e.to_string()))?;
-            character.clips.iter().position(|c| std::ptr::eq(c, clip))
-        }
-    };
-    let clip = clip_index.map(|i| &character.clips[i]);
-    let (start, duration) = clip.map_or((0.0, 0.0), |c| (c.start(), c.duration()));
-    let frames = s
-        .frames
-        .unwrap_or_else(|| (duration * s.fps).floor() as usize + 1);
-    let times: Vec<Real> = (0..frames)
-        .map(|k| {
-            let mut local = k as Real / s.fps;
-            if duration > 0.0 && local > duration * (1.0 + 1e-6) {
-                local %= duration;
-            }
-            start + local
-        })
-        .collect();
 
-    let (placement, gap) = match &s.placement {
-        Placement::Start(t) => {
-            let [x, y, z] = t.translation;
-            let iso = Isometry3::from_parts(
-                Translation3::new(x, y, z),
-                yaw_rotation(t.yaw_degrees.to_radians()),
-            );
-            (PlacementPlan::Fixed(iso), None)
+    // Characters and their clips; the frame count is the longest clip's.
+    let mut loaded = Vec::with_capacity(s.characters.len());
+    for entry in &s.characters {
+        let field = format!("{}.source", entry.field);
+        let character = match &entry.character.source {
+            CharacterSource::File(p) => {
+                load_character(&asset(base_dir, p))
+                    .map_err(|e| fail(&field, e.to_string()))?
+                    .0
+            }
+            CharacterSource::Humanoid(h) => {
+                generate_humanoid(h).map_err(|e| fail(&field, e.to_string()))?
+            }
+        };
+        let clip_index = match (&entry.character.clip, character.clips.is_empty()) {
+            (None, true) => None,
+            (name, _) => {
+                let clip = character
+                    .clip(name.as_deref())
+                    .map_err(|e| fail(&format!("{}.clip", entry.field), e.to_string()))?;
+                character.clips.iter().position(|c| std::ptr::eq(c, clip))
+            }
+        };
+        loaded.push((character, clip_index));
+    }
+    let frames = s.frames.unwrap_or_else(|| {
+        loaded
+            .iter()
+            .map(|(c, i)| {
+                let duration = i.map_or(0.0, |i| c.clips[i].duration());
+                (duration * s.fps).floor() as usize + 1
+            })
+            .max()
+            .unwrap_or(1)
+    });
+
+    let mut characters = Vec::with_capacity(loaded.len());
+    for (entry, (character, clip_index)) in s.characters.iter().zip(loaded) {
+        let clip = clip_index.map(|i| &character.clips[i]);
+        let (start, duration) = clip.map_or((0.0, 0.0), |c| (c.start(), c.duration()));
+        let times: Vec<Real> = (0..frames)
+            .map(|k| {
+                let mut local = k as Real / s.fps + entry.clip_offset;
+                if duration > 0.0 && (local > duration * (1.0 + 1e-6) || local < 0.0) {
+                    local = local.rem_euclid(duration);
+                }
+                start + local
+            })
+            .collect();
+        let (placement, gap) = match &entry.placement {
+            Placement::Start(t) => {
+                let [x, y, z] = t.translation;
+                let iso = Isometry3::from_parts(
+                    Translation3::new(x, y, z),
+                    yaw_rotation(t.yaw_degrees.to_radians()),
+                );
+                (PlacementPlan::Fixed(iso), None)
+            }
+            Placement::Path(w) => {
+                let waypoints = w
+                    .waypoints
+                    .iter()
+                    .map(|&[x, y, z]| Vector3::new(x, y, z))
+                    .collect();
+                (
+                    PlacementPlan::Walk {
+                        waypoints,
+                        speed: w.speed,
+                        fps: s.fps,
+                    },
+                    None,
+                )
+            }
+            Placement::Gap(g) => {
+                let (iso, report) =
+                    place_at_gap(s, entry, &character, clip, &times, &environment, g)?;
+                (PlacementPlan::Fixed(iso), Some(report))
+            }
+        };
+        characters.push(Actor {
+            name: entry.name.clone(),
+            character,
+            clip_index,
+            skinning: entry.character.skinning,
+            times,
+            placement,
+            gap,
+        });
+    }
+
+    // Objects: the scenario's, then the room's doors when they swing.
+    let mut objects = Vec::with_capacity(s.objects.len());
+    for (i, o) in s.objects.iter().enumerate() {
+        let mesh =
+            object_mesh(&o.shape, base_dir).map_err(|e| fail(&format!("objects[{i}].path"), e))?;
+        objects.push(Prop {
+            name: o.name.clone(),
+            mesh,
+            motion: o.motion.clone(),
+        });
+    }
+    if s.doors == Doors::Swing {
+        let (room, doors) = environment.split_moving();
+        environment = room;
+        for (name, mesh, motion) in doors {
+            if objects.iter().any(|o: &Prop| o.name == name) {
+                return Err(fail(
+                    "objects",
+                    format!("an object is named {name:?} like a door of the room; rename it"),
+                ));
+            }
+            objects.push(Prop {
+                name,
+                mesh,
+                motion: Motion::Periodic(motion),
+            });
         }
-        Placement::Path(w) => {
-            let waypoints = w
-                .waypoints
-                .iter()
-                .map(|&[x, y, z]| Vector3::new(x, y, z))
-                .collect();
-            (
-                PlacementPlan::Walk {
-                    waypoints,
-                    speed: w.speed,
-                    fps: s.fps,
-                },
-                None,
-            )
-        }
-        Placement::Gap(g) => {
-            let (iso, report) = place_at_gap(s, &character, clip, &times, &environment, g)?;
-            (PlacementPlan::Fixed(iso), Some(report))
-        }
-    };
+    }
 
     Ok(Resolved {
-        clip_index,
-        skinning: s.character.skinning,
+        characters,
+        objects,
+        environment,
         fps: s.fps,
-        times,
-        placement,
-        gap,
+        frames,
         methods: s.methods.clone(),
         dedup: s.dedup,
         threshold: s.threshold,
         recording: s.recording,
-        character,
-        environment,
+    })
+}
+
+/// The mesh of a generated or loaded object, in its own frame.
+fn object_mesh(shape: &ObjectShape, base_dir: &Path) -> Result<TriMesh, String> {
+    Ok(match shape {
+        ObjectShape::Box { size } => shapes::box_mesh(*size),
+        ObjectShape::Door { size } => shapes::door_mesh(*size),
+        ObjectShape::Panel { size } => shapes::panel_mesh(*size),
+        ObjectShape::Ball {
+            radius,
+            subdivisions,
+        } => shapes::ball_mesh(*radius, *subdivisions),
+        ObjectShape::Gltf { path } => {
+            load_scene(&asset(base_dir, path))
+                .map_err(|e| e.to_string())?
+                .0
+                .mesh
+        }
     })
 }
 
 fn place_at_gap(
     s: &Scenario,
+    entry: &CharacterEntry,
     character: &Character,
     clip: Option<&Clip>,
     times: &[Real],
@@ -306,8 +421,8 @@ fn place_at_gap(
     gap: &Gap,
 ) -> Result<(Isometry3<Real>, GapReport), ScenarioError> {
     let (surface, metres, yaw_degrees) = (gap.surface.as_str(), gap.metres, gap.yaw_degrees);
-    let field = "placement.gap.surface";
-    let err = |msg: String| ScenarioError::new(&s.file, s.surface_at, Some(field), msg);
+    let field = format!("{}.surface", gap_field(entry));
+    let err = |msg: String| ScenarioError::new(&s.file, entry.surface_at, Some(&field), msg);
     let Some(object) = env.object(surface) else {
         const SHOWN: usize = 8;
         let names: Vec<String> = env
@@ -376,7 +491,7 @@ fn place_at_gap(
     let (mut tmin, mut tmax) = (f64::INFINITY, f64::NEG_INFINITY);
     for &time in times {
         buffers.pose(character, clip, time);
-        buffers.skin_all(character, s.character.skinning);
+        buffers.skin_all(character, entry.character.skinning);
         for p in &buffers.positions {
             let q = f(&(rotation * p));
             dmin = dmin.min(n.dot(&q));
@@ -416,7 +531,7 @@ fn place_at_gap(
     let mut penetrating_frames = 0;
     for (k, &time) in times.iter().enumerate() {
         buffers.pose(character, clip, time);
-        buffers.skin_all(character, s.character.skinning);
+        buffers.skin_all(character, entry.character.skinning);
         let frame_min = buffers
             .positions
             .iter()
@@ -438,4 +553,13 @@ fn place_at_gap(
         penetrating_frames,
     };
     Ok((iso, report))
+}
+
+/// The field of an entry's gap placement in messages.
+fn gap_field(entry: &CharacterEntry) -> String {
+    if entry.field == "character" {
+        "placement.gap".into()
+    } else {
+        format!("{}.placement.gap", entry.field)
+    }
 }

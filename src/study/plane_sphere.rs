@@ -163,7 +163,7 @@ pub fn run_study(
     mut progress: impl FnMut(usize, usize),
 ) -> Result<Vec<StudyRow>, StudyError> {
     let scenario = load_scenario(base)?;
-    let Placement::Gap(gap) = &scenario.placement else {
+    let Placement::Gap(gap) = &scenario.first_character().placement else {
         return Err(StudyError::NotGap {
             file: base.to_owned(),
         });
@@ -192,13 +192,13 @@ pub fn run_study(
             .environment
             .object(&surface)
             .map_or(0, |o| o.triangles.len());
-        let along_metres = match &s.placement {
+        let along_metres = match &s.first_character().placement {
             Placement::Gap(g) => g.along,
             _ => 0.0,
         };
-        let character = &resolved.character;
+        let character = &resolved.first().character;
         let env = &resolved.environment.mesh;
-        let options = resolved.pipeline_options();
+        let options = resolved.pipeline_options(resolved.first());
         let mut buffers = PoseBuffers::new(character);
         for &method in methods {
             let mut p = Pipeline::new(character, env, method, options);
@@ -223,7 +223,7 @@ pub fn run_study(
             };
             let mut largest_leaf_triangle = None;
             for k in 0..resolved.frames() {
-                resolved.pose_frame(&mut buffers, k);
+                resolved.first().pose_frame(&mut buffers, k);
                 let c = p.detect(&buffers, character, env);
                 row.sphere_sphere_max = row.sphere_sphere_max.max(c.sphere_sphere);
                 row.tri_tri_max = row.tri_tri_max.max(c.tri_tri);
@@ -267,7 +267,7 @@ fn inspect_base(s: &Scenario, base_dir: &Path) -> Result<BaseRoom, StudyError> {
     let mut probe = s.clone();
     probe.frames = Some(1);
     let r = resolve(&probe, base_dir)?;
-    let (Some(report), Placement::Gap(g)) = (&r.gap, &s.placement) else {
+    let (Some(report), Placement::Gap(g)) = (&r.first().gap, &s.first_character().placement) else {
         return Err(StudyError::NotGap {
             file: s.file.clone(),
         });
@@ -299,7 +299,7 @@ fn apply(s: &mut Scenario, edit: &Edit, surface: &str, base: &BaseRoom) {
     match *edit {
         Edit::None => {}
         Edit::Along(f) => {
-            if let Placement::Gap(g) = &mut s.placement {
+            if let Placement::Gap(g) = &mut s.first_character_mut().placement {
                 g.along = f * base.half_length;
             }
         }
@@ -314,7 +314,7 @@ fn apply(s: &mut Scenario, edit: &Edit, surface: &str, base: &BaseRoom) {
         Edit::Threshold(t) => s.threshold = t,
         Edit::NoDedup => s.dedup = false,
         Edit::Gap(m) => {
-            if let Placement::Gap(g) = &mut s.placement {
+            if let Placement::Gap(g) = &mut s.first_character_mut().placement {
                 g.metres = m;
             }
         }

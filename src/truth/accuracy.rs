@@ -39,7 +39,7 @@ impl Accuracy {
     }
 
     /// Counts of `reported` against `truth`, both sorted and distinct.
-    fn of_sorted<T: Ord>(
+    pub fn of_sorted<T: Ord>(
         reported: impl Iterator<Item = T>,
         truth: impl Iterator<Item = T>,
     ) -> Self {

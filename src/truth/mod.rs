@@ -23,6 +23,7 @@ pub mod accuracy;
 pub mod disagreement;
 pub mod frame_truth;
 pub mod parry_reference;
+pub mod world_truth;
 
 pub use accuracy::{Accuracy, AccuracyTotals, FrameAccuracy};
 pub use disagreement::{Classified, Disagreement, Kind, Tolerances, triangle_distance};
@@ -30,6 +31,7 @@ pub use frame_truth::{
     FalseNegative, FalsePositive, FrameTruth, MethodContext, MethodTruth, MissCause,
 };
 pub use parry_reference::{ParryReference, brute_force_pairs};
+pub use world_truth::{WorldPairs, WorldTruth};
 
 /// Why a ground-truth query cannot be answered.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]

@@ -1,0 +1,295 @@
+//! A character against the other bodies of a world: a moving rigid object,
+//! and another character.
+//!
+//! * **Object.** The object's hierarchy is built once in its own frame, for
+//!   the method, big triangles included ([`EnvironmentTree`]); nothing of it
+//!   is refit. Each frame the character's spheres are brought into the
+//!   object's frame by the inverse of its pose as traversal asks for them
+//!   (refit on demand as against the room, and shared with the room pass of
+//!   the same frame), and so are the corners of the character triangles the
+//!   narrow phase tests. The paper's claim that refit is "applicable to any
+//!   object, without dependency on … its dynamic/static behavior" (§1) is
+//!   taken literally the other way round: the static hierarchy stays, the
+//!   query moves.
+//! * **Character.** Both trees are refit on demand during one simultaneous
+//!   traversal (§3's traversal, with two deforming trees); leaves are
+//!   triangles on both sides, answered by the triangle-triangle test.
+
+use std::time::Instant;
+
+use nalgebra::{Isometry3, Matrix4};
+
+use crate::character::Character;
+use crate::character::PoseBuffers;
+use crate::geometry::tri_tri::triangles_intersect;
+use crate::geometry::{Sphere, Triangle};
+use crate::mesh::{TriMesh, TriangleId};
+use crate::sphere_tree::refit::Refitter;
+use crate::sphere_tree::traverse::LeafPair;
+use crate::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded};
+
+use super::EnvironmentTree;
+use super::LeafTest;
+use super::driver::{FrameCounters, Pipeline, TimedRefit, ticks};
+
+/// Relative slack added to a sphere's radius when it changes frame: a rigid
+/// transform in `f32` moves a point by a few units in the last place of its
+/// coordinates and of the translation; eight is generous.
+const FRAME_CHANGE_SLACK: f32 = 8.0 * f32::EPSILON;
+
+/// `s` in the frame `to` maps into, grown to cover the rounding of the
+/// transform.
+#[inline]
+pub fn sphere_in_frame(s: &Sphere, to: &Isometry3<f32>) -> Sphere {
+    let c = to * s.center;
+    let pad =
+        FRAME_CHANGE_SLACK * (s.center.coords.norm() + to.translation.vector.norm() + s.radius);
+    Sphere::new(c, s.radius + pad)
+}
+
+/// A hierarchy seen from another frame: its spheres moved by `to`.
+struct InFrame<H> {
+    inner: H,
+    to: Isometry3<f32>,
+}
+
+impl<H: Hierarchy> Hierarchy for InFrame<H> {
+    fn tree(&self) -> &SphereTree {
+        self.inner.tree()
+    }
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> Sphere {
+        sphere_in_frame(&self.inner.sphere(id), &self.to)
+    }
+}
+
+/// A static tree as a [`Hierarchy`] through a shared borrow.
+struct Fixed<'a>(&'a SphereTree);
+
+impl Hierarchy for Fixed<'_> {
+    fn tree(&self) -> &SphereTree {
+        self.0
+    }
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> Sphere {
+        self.0.nodes()[id.index()].sphere
+    }
+}
+
+impl Pipeline {
+    /// The character's root sphere this frame (refit now if not yet), in
+    /// world coordinates: what a world's broad phase tests.
+    pub fn root_sphere(&mut self, buffers: &PoseBuffers) -> Option<Sphere> {
+        if self.character_tree.tree.is_empty() {
+            return None;
+        }
+        if self.refit.is_fresh(NodeId::ROOT) {
+            return Some(self.refit.spheres[0]);
+        }
+        let mut r = Refitter {
+            tree: &self.character_tree,
+            skin: &buffers.skin,
+            state: &mut self.refit,
+        };
+        Some(r.refit_node(NodeId::ROOT, &buffers.base))
+    }
+
+    /// The pass against a moving object whose hierarchy `object` and mesh
+    /// `mesh` are in its own frame and whose pose this frame is `pose`
+    /// (object frame → world), after [`Pipeline::begin_frame`]. Appends the
+    /// colliding `(character triangle, object triangle)` pairs to `pairs`
+    /// (sorted and distinct within this call).
+    pub fn detect_object(
+        &mut self,
+        buffers: &PoseBuffers,
+        character: &Character,
+        object: &EnvironmentTree,
+        mesh: &TriMesh,
+        pose: &Isometry3<f32>,
+        pairs: &mut Vec<(u32, u32)>,
+    ) -> FrameCounters {
+        let mut c = FrameCounters::default();
+        let to_object = pose.inverse();
+        let refits_before = self.refit.refits;
+        let skinned_before = self.skin.skinned();
+        let t0 = Instant::now();
+        let tick0 = ticks();
+        let mut a = InFrame {
+            inner: TimedRefit::<true> {
+                refitter: Refitter {
+                    tree: &self.character_tree,
+                    skin: &buffers.skin,
+                    state: &mut self.refit,
+                },
+                base: buffers.base,
+                ticks: 0,
+            },
+            to: to_object,
+        };
+        self.object_leaf_pairs.clear();
+        let leaf_pairs = &mut self.object_leaf_pairs;
+        let mut b = Fixed(&object.tree);
+        let mut guard_tests = 0u64;
+        let stats = if self.method.prunes_at_plane() {
+            let guard = |j: NodeId, s: &Sphere| match object.leaf_meets_plane(j, s) {
+                None => true,
+                Some(meets) => {
+                    guard_tests += 1;
+                    meets
+                }
+            };
+            traverse_guarded(&mut a, &mut b, &mut self.workspace, guard, |p| {
+                leaf_pairs.push(p)
+            })
+        } else {
+            traverse(&mut a, &mut b, &mut self.workspace, |p| leaf_pairs.push(p))
+        };
+        let refit_ticks = a.inner.ticks;
+        let elapsed = t0.elapsed().as_secs_f64() * 1e3;
+        let total_ticks = ticks().wrapping_sub(tick0).max(1);
+        c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
+        c.time.traversal_ms = elapsed - c.time.refit_ms;
+        c.sphere_sphere = stats.sphere_tests;
+        c.plane_sphere = guard_tests;
+
+        let plane_sphere_leaves = self.method.big_leaf_test() == LeafTest::PlaneSphere;
+        let model = self.options.skinning;
+        let indices = character.mesh.indices();
+        let t0 = Instant::now();
+        for p in &self.object_leaf_pairs {
+            if !(plane_sphere_leaves && object.is_division_leaf(p.leaf_b)) {
+                for v in indices[p.primitive_a as usize] {
+                    self.skin.ensure(buffers, character, model, v);
+                }
+            }
+        }
+        c.time.skinning_ms = t0.elapsed().as_secs_f64() * 1e3;
+
+        let t0 = Instant::now();
+        let start = pairs.len();
+        for p in &self.object_leaf_pairs {
+            let hit = if plane_sphere_leaves && object.is_division_leaf(p.leaf_b) {
+                if self.method.prunes_at_plane() {
+                    true
+                } else {
+                    c.plane_sphere += 1;
+                    let s = sphere_in_frame(&self.refit.spheres[p.leaf_a.index()], &to_object);
+                    object.leaf_meets_plane(p.leaf_b, &s) == Some(true)
+                }
+            } else {
+                c.tri_tri += 1;
+                let [i, j, k] = indices[p.primitive_a as usize];
+                let ct = Triangle::new(
+                    to_object * self.skin.position(i),
+                    to_object * self.skin.position(j),
+                    to_object * self.skin.position(k),
+                );
+                triangles_intersect(&ct, &mesh.triangle(TriangleId(p.primitive_b)))
+            };
+            if hit {
+                pairs.push((p.primitive_a, p.primitive_b));
+            }
+        }
+        pairs[start..].sort_unstable();
+        let mut kept = start;
+        for i in start..pairs.len() {
+            if i == start || pairs[i] != pairs[kept - 1] {
+                pairs[kept] = pairs[i];
+                kept += 1;
+            }
+        }
+        pairs.truncate(kept);
+        c.pairs = (kept - start) as u64;
+        c.refits = self.refit.refits - refits_before;
+        c.skinned_vertices = self.skin.skinned() - skinned_before;
+        c.time.narrow_ms = t0.elapsed().as_secs_f64() * 1e3;
+        c
+    }
+}
+
+/// Two characters of a world against each other, after both pipelines'
+/// [`Pipeline::begin_frame`]: one simultaneous traversal refitting both
+/// trees on demand, then the triangle-triangle test at every overlapping
+/// leaf pair. Appends the colliding `(triangle of a, triangle of b)` pairs
+/// to `pairs` (sorted and distinct within this call); `leaf_pairs` and
+/// `workspace` are scratch.
+#[allow(clippy::too_many_arguments)]
+pub fn detect_characters(
+    a: &mut Pipeline,
+    ca: &Character,
+    ba: &PoseBuffers,
+    b: &mut Pipeline,
+    cb: &Character,
+    bb: &PoseBuffers,
+    leaf_pairs: &mut Vec<LeafPair>,
+    workspace: &mut Workspace,
+    pairs: &mut Vec<(u32, u32)>,
+) -> FrameCounters {
+    let mut c = FrameCounters::default();
+    let refits_before = a.refit.refits + b.refit.refits;
+    let skinned_before = a.skin.skinned() + b.skin.skinned();
+    let t0 = Instant::now();
+    let tick0 = ticks();
+    let base_a: Matrix4<f32> = ba.base;
+    let base_b: Matrix4<f32> = bb.base;
+    let mut ha = TimedRefit::<true> {
+        refitter: Refitter {
+            tree: &a.character_tree,
+            skin: &ba.skin,
+            state: &mut a.refit,
+        },
+        base: base_a,
+        ticks: 0,
+    };
+    let mut hb = TimedRefit::<true> {
+        refitter: Refitter {
+            tree: &b.character_tree,
+            skin: &bb.skin,
+            state: &mut b.refit,
+        },
+        base: base_b,
+        ticks: 0,
+    };
+    leaf_pairs.clear();
+    let stats = traverse(&mut ha, &mut hb, workspace, |p| leaf_pairs.push(p));
+    let refit_ticks = ha.ticks + hb.ticks;
+    let elapsed = t0.elapsed().as_secs_f64() * 1e3;
+    let total_ticks = ticks().wrapping_sub(tick0).max(1);
+    c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
+    c.time.traversal_ms = elapsed - c.time.refit_ms;
+    c.sphere_sphere = stats.sphere_tests;
+
+    let t0 = Instant::now();
+    let (ia, ib) = (ca.mesh.indices(), cb.mesh.indices());
+    let (ma, mb) = (a.options.skinning, b.options.skinning);
+    for p in leaf_pairs.iter() {
+        for v in ia[p.primitive_a as usize] {
+            a.skin.ensure(ba, ca, ma, v);
+        }
+        for v in ib[p.primitive_b as usize] {
+            b.skin.ensure(bb, cb, mb, v);
+        }
+    }
+    c.time.skinning_ms = t0.elapsed().as_secs_f64() * 1e3;
+
+    let t0 = Instant::now();
+    let start = pairs.len();
+    for p in leaf_pairs.iter() {
+        c.tri_tri += 1;
+        let ta = ia[p.primitive_a as usize].map(|v| a.skin.position(v));
+        let tb = ib[p.primitive_b as usize].map(|v| b.skin.position(v));
+        if triangles_intersect(
+            &Triangle::new(ta[0], ta[1], ta[2]),
+            &Triangle::new(tb[0], tb[1], tb[2]),
+        ) {
+            pairs.push((p.primitive_a, p.primitive_b));
+        }
+    }
+    // Leaves are distinct triangles on both sides: no repeats to remove.
+    pairs[start..].sort_unstable();
+    c.pairs = (pairs.len() - start) as u64;
+    c.refits = a.refit.refits + b.refit.refits - refits_before;
+    c.skinned_vertices = a.skin.skinned() + b.skin.skinned() - skinned_before;
+    c.time.narrow_ms = t0.elapsed().as_secs_f64() * 1e3;
+    c
+}

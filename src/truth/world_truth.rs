@@ -1,0 +1,196 @@
+//! The ground truth of a world, per pair kind: the exact oracle on parry's
+//! broad phase (as [`FrameTruth`] does for one character in a room) for every
+//! character against the room, every character against every object, and
+//! every two characters; parry's own answer beside it.
+//!
+//! * Against an object, the truth is taken in the object's frame: the
+//!   character's skinned vertices are moved there by the inverse of the
+//!   object's pose, as the methods move them.
+//! * Two characters: the first one's posed mesh is the reference mesh of the
+//!   frame (its BVH built anew each frame), the second one's is queried.
+//! * Body pairs whose bounding boxes do not overlap have no pairs, and are
+//!   not handed to parry.
+
+use nalgebra::Isometry3;
+use serde::Serialize;
+
+use super::{Accuracy, FrameTruth, TruthError};
+use crate::character::PoseBuffers;
+use crate::geometry::Point;
+use crate::mesh::TriMesh;
+use crate::scenario::Resolved;
+use crate::world::{ByKind, CharacterPair, MethodOutcome, ObjectPair, RoomPair};
+
+/// This frame's pairs of every kind, sorted.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct WorldPairs {
+    pub environment: Vec<RoomPair>,
+    pub objects: Vec<ObjectPair>,
+    pub characters: Vec<CharacterPair>,
+}
+
+/// The reference of the current frame of a world.
+pub struct WorldTruth {
+    room: Vec<FrameTruth>,
+    /// `[character][object]`, built when first needed.
+    objects: Vec<Vec<Option<FrameTruth>>>,
+    moved: Vec<Point>,
+    /// Exactly colliding pairs: the truth.
+    pub exact: WorldPairs,
+    /// parry's colliding pairs.
+    pub parry: WorldPairs,
+}
+
+fn bounds(points: impl Iterator<Item = Point>) -> Option<(Point, Point)> {
+    let mut it = points.peekable();
+    let first = *it.peek()?;
+    Some(it.fold((first, first), |(lo, hi), p| (lo.inf(&p), hi.sup(&p))))
+}
+
+fn overlap(a: Option<(Point, Point)>, b: Option<(Point, Point)>) -> bool {
+    match (a, b) {
+        (Some((alo, ahi)), Some((blo, bhi))) => {
+            (0..3).all(|i| alo[i] <= bhi[i] && blo[i] <= ahi[i])
+        }
+        _ => false,
+    }
+}
+
+impl WorldTruth {
+    pub fn new(scene: &Resolved) -> Result<Self, TruthError> {
+        let room = scene
+            .characters
+            .iter()
+            .map(|a| FrameTruth::new(&scene.environment.mesh, a.character.mesh.indices()))
+            .collect::<Result<_, _>>()?;
+        Ok(Self {
+            room,
+            objects: scene
+                .characters
+                .iter()
+                .map(|_| scene.objects.iter().map(|_| None).collect())
+                .collect(),
+            moved: Vec::new(),
+            exact: WorldPairs::default(),
+            parry: WorldPairs::default(),
+        })
+    }
+
+    /// Computes the truth for the current frame: `buffers` skinned (every
+    /// vertex), objects at `poses`.
+    pub fn update(
+        &mut self,
+        scene: &Resolved,
+        buffers: &[PoseBuffers],
+        poses: &[Isometry3<f32>],
+    ) -> Result<(), TruthError> {
+        let (exact, parry) = (&mut self.exact, &mut self.parry);
+        exact.environment.clear();
+        parry.environment.clear();
+        exact.objects.clear();
+        parry.objects.clear();
+        exact.characters.clear();
+        parry.characters.clear();
+        let boxes: Vec<_> = buffers
+            .iter()
+            .map(|b| bounds(b.positions.iter().copied()))
+            .collect();
+        for (i, (a, b)) in scene.characters.iter().zip(buffers).enumerate() {
+            let indices = a.character.mesh.indices();
+            let t = &mut self.room[i];
+            t.update(&b.positions, indices, &scene.environment.mesh)?;
+            let room = |&(c, e): &(u32, u32)| RoomPair {
+                character: i as u32,
+                triangle: c,
+                room_triangle: e,
+            };
+            exact.environment.extend(t.exact.iter().map(room));
+            parry.environment.extend(t.parry.iter().map(room));
+            for (o, (prop, pose)) in scene.objects.iter().zip(poses).enumerate() {
+                let obox = bounds(prop.mesh.positions().iter().map(|p| pose * p));
+                if !overlap(boxes[i], obox) {
+                    continue;
+                }
+                let slot = &mut self.objects[i][o];
+                if slot.is_none() {
+                    *slot = Some(FrameTruth::new(&prop.mesh, indices)?);
+                }
+                let t = slot.as_mut().expect("just built");
+                let inv = pose.inverse();
+                self.moved.clear();
+                self.moved.extend(b.positions.iter().map(|p| inv * p));
+                t.update(&self.moved, indices, &prop.mesh)?;
+                let pair = |&(c, e): &(u32, u32)| ObjectPair {
+                    character: i as u32,
+                    triangle: c,
+                    object: o as u32,
+                    object_triangle: e,
+                };
+                exact.objects.extend(t.exact.iter().map(pair));
+                parry.objects.extend(t.parry.iter().map(pair));
+            }
+        }
+        let n = scene.characters.len();
+        for i in 0..n {
+            for j in i + 1..n {
+                if !overlap(boxes[i], boxes[j]) {
+                    continue;
+                }
+                let (ai, aj) = (&scene.characters[i], &scene.characters[j]);
+                let mesh_i = TriMesh::new(
+                    buffers[i].positions.clone(),
+                    ai.character.mesh.indices().to_vec(),
+                )
+                .map_err(|_| TruthError::NoTriangles("character"))?;
+                let indices_j = aj.character.mesh.indices();
+                let mut t = FrameTruth::new(&mesh_i, indices_j)?;
+                t.update(&buffers[j].positions, indices_j, &mesh_i)?;
+                // FrameTruth pairs are (queried triangle, reference triangle).
+                let pair = |&(tj, ti): &(u32, u32)| CharacterPair {
+                    a: i as u32,
+                    triangle_a: ti,
+                    b: j as u32,
+                    triangle_b: tj,
+                };
+                exact.characters.extend(t.exact.iter().map(pair));
+                parry.characters.extend(t.parry.iter().map(pair));
+            }
+        }
+        for p in [&mut *exact, &mut *parry] {
+            p.environment.sort_unstable();
+            p.objects.sort_unstable();
+            p.characters.sort_unstable();
+        }
+        Ok(())
+    }
+
+    /// A method's pairs against the truth, per kind.
+    pub fn score(&self, outcome: &MethodOutcome) -> ByKind<Accuracy> {
+        ByKind {
+            environment: Accuracy::of_sorted(
+                outcome.room_pairs.iter(),
+                self.exact.environment.iter(),
+            ),
+            objects: Accuracy::of_sorted(outcome.object_pairs.iter(), self.exact.objects.iter()),
+            characters: Accuracy::of_sorted(
+                outcome.character_pairs.iter(),
+                self.exact.characters.iter(),
+            ),
+        }
+    }
+
+    /// parry's pairs against the truth, per kind.
+    pub fn parry_score(&self) -> ByKind<Accuracy> {
+        ByKind {
+            environment: Accuracy::of_sorted(
+                self.parry.environment.iter(),
+                self.exact.environment.iter(),
+            ),
+            objects: Accuracy::of_sorted(self.parry.objects.iter(), self.exact.objects.iter()),
+            characters: Accuracy::of_sorted(
+                self.parry.characters.iter(),
+                self.exact.characters.iter(),
+            ),
+        }
+    }
+}

@@ -1,0 +1,21 @@
+//! Worlds: several characters, moving rigid objects and a static room, on
+//! one frame loop (the paper's "virtual world composed of several
+//! interactive avatars ... and objects", §1).
+//!
+//! | file | what |
+//! |---|---|
+//! | [`session`] | [`World`]: builds every method's hierarchies for a scene; [`World::step`] plays a frame |
+//! | [`outcome`] | [`MethodOutcome`]: counters per pair kind and in total, pairs of every kind |
+//! | [`motion`] | [`Motion`]: an object's pose over time (waypoints, hinge, a room door's swing) |
+//! | [`shapes`] | meshes of the generated objects (box, panel, ball, door) |
+
+pub mod motion;
+pub mod outcome;
+pub mod session;
+pub mod shapes;
+
+pub use motion::Motion;
+pub use outcome::{
+    ByKind, CharacterPair, MethodOutcome, ObjectPair, PairKind, RoomPair, add_counters,
+};
+pub use session::{MethodWorld, World};

@@ -1,0 +1,477 @@
+//! The frame loop of a world, as a library piece: [`World`] owns the
+//! characters, the moving objects, the room and every chosen method's
+//! hierarchies; [`World::step`] plays one frame through every method.
+//!
+//! Per method and frame:
+//! 1. every character, in parallel: start the frame (spheres and skinned
+//!    vertices stale), the pass against the room (exactly the one-character
+//!    pipeline of `pipeline::driver`), the world broad phase against every
+//!    object's root sphere at its pose, and the pass against each object
+//!    whose root it meets;
+//! 2. the broad phase between characters' root spheres, then the pairs that
+//!    meet, in rounds of pairs that share no character, each round in
+//!    parallel (each pair refits and skins its two characters on demand).
+//!
+//! Which thread runs what never changes a counter or a pair: a pass's tests
+//! do not depend on which spheres were refit before it, and each sphere and
+//! vertex is refit or skinned at most once a frame whichever pass asks first
+//! (per-kind refit and skinning counts do depend on that order; the totals
+//! do not). Pairs are sorted at the end of the frame.
+
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use nalgebra::Isometry3;
+use rayon::prelude::*;
+
+use crate::character::PoseBuffers;
+use crate::geometry::Sphere;
+use crate::mesh::{EdgeDedup, dedup_edges};
+use crate::pipeline::bodies::{detect_characters, sphere_in_frame};
+use crate::pipeline::driver::{FrameCounters, Pipeline};
+use crate::pipeline::{EnvironmentTree, Method};
+use crate::scenario::Resolved;
+use crate::sphere_tree::traverse::LeafPair;
+use crate::sphere_tree::{NodeId, Workspace};
+
+use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
+
+/// A world being played.
+pub struct World {
+    /// The bodies, the room and the run's settings.
+    pub scene: Resolved,
+    pub methods: Vec<MethodWorld>,
+    /// Each character posed and placed for the current frame (joint
+    /// matrices; vertices only when [`World::skin_all`] was called).
+    pub buffers: Vec<PoseBuffers>,
+    /// Each object's pose (object frame → world) this frame.
+    pub object_poses: Vec<Isometry3<f32>>,
+    /// Milliseconds spent posing every character this frame.
+    pub pose_ms: f64,
+    /// The next frame to play.
+    next: usize,
+    pool: rayon::ThreadPool,
+    threads: usize,
+}
+
+/// One method's hierarchies and per-frame state in a world.
+pub struct MethodWorld {
+    pub method: Method,
+    /// The room's hierarchy (shared by the characters' pipelines).
+    pub room: Arc<EnvironmentTree>,
+    /// Each object's hierarchy, in the object's frame.
+    pub objects: Vec<EnvironmentTree>,
+    /// One pipeline per character (its tree, refit state and the room).
+    characters: Vec<Mutex<Pipeline>>,
+    per_character: Vec<CharacterScratch>,
+    object_roots: Vec<Option<Sphere>>,
+    /// Character pairs whose roots met this frame, `(i, j)` with `i < j`, and
+    /// their round.
+    candidates: Vec<(u32, u32, u32)>,
+    next_round: Vec<u32>,
+    pair_scratch: Vec<PairScratch>,
+    /// This frame's outcome.
+    pub outcome: MethodOutcome,
+}
+
+#[derive(Default)]
+struct CharacterScratch {
+    root: Option<Sphere>,
+    room: FrameCounters,
+    objects: FrameCounters,
+    broad_phase_tests: u64,
+    body_pairs: u64,
+    object_pairs: Vec<ObjectPair>,
+    pairs: Vec<(u32, u32)>,
+}
+
+struct PairScratch {
+    a: u32,
+    b: u32,
+    counters: FrameCounters,
+    pairs: Vec<(u32, u32)>,
+    leaf_pairs: Vec<LeafPair>,
+    workspace: Workspace,
+}
+
+impl World {
+    /// Builds every method's hierarchies for the scene, on `threads` threads
+    /// (0: one per core).
+    pub fn new(scene: Resolved, threads: usize) -> Result<Self, rayon::ThreadPoolBuildError> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        let threads = pool.current_num_threads();
+        let dedups: Vec<EdgeDedup> = scene
+            .characters
+            .iter()
+            .map(|a| {
+                if scene.dedup {
+                    dedup_edges(&a.character.mesh)
+                } else {
+                    EdgeDedup::keep_all(&a.character.mesh)
+                }
+            })
+            .collect();
+        let methods = pool.install(|| {
+            scene
+                .methods
+                .par_iter()
+                .map(|&m| MethodWorld::build(&scene, m, &dedups))
+                .collect()
+        });
+        let buffers = scene
+            .characters
+            .iter()
+            .map(|a| PoseBuffers::new(&a.character))
+            .collect();
+        let object_poses = vec![Isometry3::identity(); scene.objects.len()];
+        Ok(Self {
+            scene,
+            methods,
+            buffers,
+            object_poses,
+            pose_ms: 0.0,
+            next: 0,
+            pool,
+            threads,
+        })
+    }
+
+    /// Threads the frames run on.
+    pub fn threads(&self) -> usize {
+        self.threads
+    }
+
+    /// Runs later frames on `threads` threads (0: one per core).
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
+        self.pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        self.threads = self.pool.current_num_threads();
+        Ok(())
+    }
+
+    /// Frames in the scenario.
+    pub fn frames(&self) -> usize {
+        self.scene.frames
+    }
+
+    /// The frame [`World::step`] plays next.
+    pub fn next_frame(&self) -> usize {
+        self.next
+    }
+
+    /// Plays frame `k` from here on (frames are independent: any order works).
+    pub fn seek(&mut self, k: usize) {
+        self.next = k;
+    }
+
+    /// Poses every body for frame `k` (joint matrices and object poses).
+    pub fn pose(&mut self, k: usize) {
+        let t0 = Instant::now();
+        for (a, b) in self.scene.characters.iter().zip(&mut self.buffers) {
+            a.pose_frame(b, k);
+        }
+        let t = self.scene.world_time(k);
+        for (o, p) in self.scene.objects.iter().zip(&mut self.object_poses) {
+            *p = o.motion.pose_at(t);
+        }
+        self.pose_ms = t0.elapsed().as_secs_f64() * 1e3;
+    }
+
+    /// Skins every vertex of every character for the current pose (for the
+    /// ground truth, recordings and dumps; no method's work or time).
+    pub fn skin_all(&mut self) {
+        for (a, b) in self.scene.characters.iter().zip(&mut self.buffers) {
+            b.skin_all(&a.character, a.skinning);
+        }
+    }
+
+    /// Plays the next frame through every method; returns its index, or
+    /// `None` past the last frame. Outcomes are in `methods[m].outcome`.
+    pub fn step(&mut self) -> Option<usize> {
+        let k = self.next;
+        if k >= self.scene.frames {
+            return None;
+        }
+        self.pose(k);
+        self.detect_all();
+        self.next = k + 1;
+        Some(k)
+    }
+
+    /// Runs every method on the current pose.
+    pub fn detect_all(&mut self) {
+        for m in 0..self.methods.len() {
+            self.detect_method(m);
+        }
+    }
+
+    /// Runs method `m` (an index into `methods`) on the current pose.
+    pub fn detect_method(&mut self, m: usize) {
+        let World {
+            scene,
+            methods,
+            buffers,
+            object_poses,
+            pose_ms,
+            pool,
+            ..
+        } = self;
+        let mw = &mut methods[m];
+        pool.install(|| mw.detect(scene, buffers, object_poses));
+        mw.outcome.total.time.pose_ms = *pose_ms;
+    }
+}
+
+impl MethodWorld {
+    fn build(scene: &Resolved, method: Method, dedups: &[EdgeDedup]) -> Self {
+        let build = crate::sphere_tree::BuildParams::default();
+        let room = Arc::new(EnvironmentTree::build(
+            &scene.environment.mesh,
+            method,
+            scene.threshold,
+            build,
+        ));
+        let objects = scene
+            .objects
+            .iter()
+            .map(|o| EnvironmentTree::build(&o.mesh, method, scene.threshold, build))
+            .collect();
+        let characters = scene
+            .characters
+            .iter()
+            .zip(dedups)
+            .map(|(a, d)| {
+                Mutex::new(Pipeline::with_environment(
+                    &a.character,
+                    room.clone(),
+                    method,
+                    scene.pipeline_options(a),
+                    d,
+                ))
+            })
+            .collect();
+        let n = scene.characters.len();
+        Self {
+            method,
+            room,
+            objects,
+            characters,
+            per_character: (0..n).map(|_| CharacterScratch::default()).collect(),
+            object_roots: vec![None; scene.objects.len()],
+            candidates: Vec::new(),
+            next_round: vec![0; n],
+            pair_scratch: Vec::new(),
+            outcome: MethodOutcome {
+                method: Some(method),
+                ..MethodOutcome::default()
+            },
+        }
+    }
+
+    /// Character `c`'s pipeline (its tree, refit state, room pairs).
+    pub fn pipeline(&mut self, c: usize) -> &mut Pipeline {
+        self.characters[c].get_mut().expect("no pass panicked")
+    }
+
+    /// Every character's pipeline, in order.
+    pub fn pipelines(&mut self) -> impl Iterator<Item = &mut Pipeline> {
+        self.characters
+            .iter_mut()
+            .map(|p| p.get_mut().expect("no pass panicked"))
+    }
+
+    /// Bytes of every hierarchy: the characters', the room's once, the objects'.
+    pub fn hierarchy_bytes(&mut self) -> usize {
+        let room = self.room.bytes();
+        let objects: usize = self.objects.iter().map(EnvironmentTree::bytes).sum();
+        let characters: usize = self
+            .pipelines()
+            .map(|p| p.character_tree.tree.bytes())
+            .sum();
+        room + objects + characters
+    }
+
+    fn detect(&mut self, scene: &Resolved, buffers: &[PoseBuffers], poses: &[Isometry3<f32>]) {
+        let t0 = Instant::now();
+        // Objects' root spheres in the world.
+        for ((root, tree), pose) in self.object_roots.iter_mut().zip(&self.objects).zip(poses) {
+            *root = (!tree.tree.is_empty())
+                .then(|| sphere_in_frame(&tree.tree.nodes()[NodeId::ROOT.index()].sphere, pose));
+        }
+        // 1. Each character against the room and the objects.
+        let objects = &self.objects;
+        let object_roots = &self.object_roots;
+        self.characters
+            .par_iter_mut()
+            .zip(self.per_character.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (pipe, s))| {
+                let pipe = pipe.get_mut().expect("no pass panicked");
+                let actor = &scene.characters[i];
+                let b = &buffers[i];
+                pipe.begin_frame(b);
+                s.room = pipe.detect_room(b, &actor.character, &scene.environment.mesh);
+                s.root = pipe.root_sphere(b);
+                s.objects = FrameCounters::default();
+                s.broad_phase_tests = 0;
+                s.body_pairs = 0;
+                s.object_pairs.clear();
+                let Some(root) = s.root else { return };
+                for (o, (tree, oroot)) in objects.iter().zip(object_roots).enumerate() {
+                    let Some(oroot) = oroot else { continue };
+                    s.broad_phase_tests += 1;
+                    if !root.overlaps(oroot) {
+                        continue;
+                    }
+                    s.body_pairs += 1;
+                    s.pairs.clear();
+                    let c = pipe.detect_object(
+                        b,
+                        &actor.character,
+                        tree,
+                        &scene.objects[o].mesh,
+                        &poses[o],
+                        &mut s.pairs,
+                    );
+                    add_counters(&mut s.objects, &c);
+                    s.object_pairs
+                        .extend(s.pairs.iter().map(|&(t, ot)| ObjectPair {
+                            character: i as u32,
+                            triangle: t,
+                            object: o as u32,
+                            object_triangle: ot,
+                        }));
+                }
+            });
+
+        // 2. Characters against each other: broad phase, then rounds.
+        let n = self.characters.len();
+        let mut char_tests = 0u64;
+        self.candidates.clear();
+        self.next_round.iter_mut().for_each(|r| *r = 0);
+        for i in 0..n {
+            let Some(ri) = self.per_character[i].root else {
+                continue;
+            };
+            for j in i + 1..n {
+                let Some(rj) = self.per_character[j].root else {
+                    continue;
+                };
+                char_tests += 1;
+                if ri.overlaps(&rj) {
+                    let round = self.next_round[i].max(self.next_round[j]);
+                    self.next_round[i] = round + 1;
+                    self.next_round[j] = round + 1;
+                    self.candidates.push((i as u32, j as u32, round));
+                }
+            }
+        }
+        // Candidates by round (stable: by pair within a round).
+        self.candidates.sort_by_key(|&(i, j, r)| (r, i, j));
+        while self.pair_scratch.len() < self.candidates.len() {
+            self.pair_scratch.push(PairScratch {
+                a: 0,
+                b: 0,
+                counters: FrameCounters::default(),
+                pairs: Vec::new(),
+                leaf_pairs: Vec::new(),
+                workspace: Workspace::new(),
+            });
+        }
+        let characters = &self.characters;
+        let mut start = 0;
+        while start < self.candidates.len() {
+            let round = self.candidates[start].2;
+            let end = start
+                + self.candidates[start..]
+                    .iter()
+                    .take_while(|c| c.2 == round)
+                    .count();
+            self.pair_scratch[start..end]
+                .par_iter_mut()
+                .zip(&self.candidates[start..end])
+                .for_each(|(s, &(i, j, _))| {
+                    // Pairs of one round share no character: these locks
+                    // are never contended.
+                    let mut pa = characters[i as usize].lock().expect("no pass panicked");
+                    let mut pb = characters[j as usize].lock().expect("no pass panicked");
+                    s.a = i;
+                    s.b = j;
+                    s.pairs.clear();
+                    let (ai, aj) = (&scene.characters[i as usize], &scene.characters[j as usize]);
+                    s.counters = detect_characters(
+                        &mut pa,
+                        &ai.character,
+                        &buffers[i as usize],
+                        &mut pb,
+                        &aj.character,
+                        &buffers[j as usize],
+                        &mut s.leaf_pairs,
+                        &mut s.workspace,
+                        &mut s.pairs,
+                    );
+                });
+            start = end;
+        }
+
+        // 3. The outcome, in a fixed order.
+        let out = &mut self.outcome;
+        out.total = FrameCounters::default();
+        out.by_kind = Default::default();
+        out.room_pairs.clear();
+        out.object_pairs.clear();
+        out.character_pairs.clear();
+        out.broad_phase_tests = char_tests;
+        out.body_pairs = self.candidates.len() as u64;
+        out.by_kind.characters.sphere_sphere += char_tests;
+        for (i, (s, pipe)) in self
+            .per_character
+            .iter()
+            .zip(self.characters.iter_mut())
+            .enumerate()
+        {
+            let pipe = pipe.get_mut().expect("no pass panicked");
+            add_counters(&mut out.by_kind.environment, &s.room);
+            add_counters(&mut out.by_kind.objects, &s.objects);
+            out.by_kind.objects.sphere_sphere += s.broad_phase_tests;
+            out.broad_phase_tests += s.broad_phase_tests;
+            out.body_pairs += s.body_pairs;
+            out.object_pairs.extend_from_slice(&s.object_pairs);
+            out.room_pairs
+                .extend(pipe.pairs.iter().map(|&(t, rt)| RoomPair {
+                    character: i as u32,
+                    triangle: t,
+                    room_triangle: rt,
+                }));
+        }
+        for s in &self.pair_scratch[..self.candidates.len()] {
+            add_counters(&mut out.by_kind.characters, &s.counters);
+            out.character_pairs
+                .extend(s.pairs.iter().map(|&(ta, tb)| CharacterPair {
+                    a: s.a,
+                    triangle_a: ta,
+                    b: s.b,
+                    triangle_b: tb,
+                }));
+        }
+        out.object_pairs.sort_unstable();
+        out.character_pairs.sort_unstable();
+        for k in super::PairKind::ALL {
+            add_counters(&mut out.total, out.by_kind.get(k));
+        }
+        // Refits and skinned vertices: each character's own count for the
+        // frame (every pass adds to it once).
+        let (mut refits, mut skinned) = (0, 0);
+        for p in self.characters.iter_mut() {
+            let p = p.get_mut().expect("no pass panicked");
+            refits += p.refit_state().refits;
+            skinned += p.skinned().skinned();
+        }
+        out.total.refits = refits;
+        out.total.skinned_vertices = skinned;
+        out.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    }
+}

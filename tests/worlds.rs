@@ -1,0 +1,157 @@
+//! Worlds (several characters, moving objects) on the library frame loop:
+//! the exact methods report exactly the reference pairs of every kind on
+//! every frame of the shipped worlds; the outcome does not depend on the
+//! number of threads; bad worlds fail in one line naming the field.
+
+use std::path::Path;
+
+use cornertree::pipeline::Method;
+use cornertree::scenario::{Scenario, open_scenario};
+use cornertree::truth::WorldTruth;
+use cornertree::world::{PairKind, World};
+
+fn root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// Plays `name` without de-duplication through the exact methods; checks
+/// every frame against the truth and that `kind` has contacts in at least a
+/// quarter of the frames.
+fn exact_on_every_frame(name: &str, kind: PairKind) {
+    let mut r = open_scenario(&root().join(format!("scenarios/{name}.toml"))).unwrap();
+    r.dedup = false;
+    r.methods = vec![Method::SphereDivision, Method::PrunedTriTri];
+    let mut world = World::new(r, 0).unwrap();
+    let mut truth = WorldTruth::new(&world.scene).unwrap();
+    let mut with_contact = 0;
+    let frames = world.frames();
+    for k in 0..frames {
+        world.pose(k);
+        world.skin_all();
+        truth
+            .update(&world.scene, &world.buffers, &world.object_poses)
+            .unwrap();
+        world.detect_all();
+        let exact_of_kind = match kind {
+            PairKind::Environment => truth.exact.environment.len(),
+            PairKind::Objects => truth.exact.objects.len(),
+            PairKind::Characters => truth.exact.characters.len(),
+        };
+        with_contact += usize::from(exact_of_kind > 0);
+        for m in &world.methods {
+            let o = &m.outcome;
+            assert_eq!(
+                o.room_pairs, truth.exact.environment,
+                "{name} frame {k} {} room",
+                m.method
+            );
+            assert_eq!(
+                o.object_pairs, truth.exact.objects,
+                "{name} frame {k} {} objects",
+                m.method
+            );
+            assert_eq!(
+                o.character_pairs, truth.exact.characters,
+                "{name} frame {k} {} characters",
+                m.method
+            );
+        }
+    }
+    assert!(
+        4 * with_contact >= frames,
+        "{name}: {} contacts in {with_contact} of {frames} frames",
+        kind.name()
+    );
+}
+
+#[test]
+fn handshake_exact_pairs_every_frame() {
+    exact_on_every_frame("handshake", PairKind::Characters);
+}
+
+#[test]
+fn door_exact_pairs_every_frame() {
+    exact_on_every_frame("door", PairKind::Objects);
+}
+
+#[test]
+fn crowd_exact_pairs_every_frame() {
+    exact_on_every_frame("crowd", PairKind::Characters);
+}
+
+#[test]
+fn one_thread_and_two_give_the_same_outcome() {
+    let mut r = open_scenario(&root().join("scenarios/crowd.toml")).unwrap();
+    r.frames = 12;
+    r.methods = vec![Method::PlaneSpherePruned, Method::PrunedTriTri];
+    let mut one = World::new(r.clone(), 1).unwrap();
+    let mut two = World::new(r, 2).unwrap();
+    let mut character_pairs = 0;
+    while let (Some(a), Some(b)) = (one.step(), two.step()) {
+        assert_eq!(a, b);
+        for (x, y) in one.methods.iter().zip(&two.methods) {
+            let (x, y) = (&x.outcome, &y.outcome);
+            assert_eq!(x.room_pairs, y.room_pairs);
+            assert_eq!(x.object_pairs, y.object_pairs);
+            assert_eq!(x.character_pairs, y.character_pairs);
+            for k in PairKind::ALL {
+                let (cx, cy) = (x.by_kind.get(k), y.by_kind.get(k));
+                assert_eq!(
+                    (cx.sphere_sphere, cx.tri_tri, cx.plane_sphere, cx.pairs),
+                    (cy.sphere_sphere, cy.tri_tri, cy.plane_sphere, cy.pairs)
+                );
+            }
+            assert_eq!(x.total.refits, y.total.refits);
+            assert_eq!(x.total.skinned_vertices, y.total.skinned_vertices);
+            character_pairs += x.character_pairs.len();
+        }
+    }
+    assert!(character_pairs > 0, "the frames compared have contacts");
+}
+
+fn parse_error(text: &str) -> String {
+    Scenario::parse(text, Path::new("bad.toml"))
+        .expect_err("a bad world")
+        .to_string()
+}
+
+const ROOM: &str = "[environment]\nkind = \"living-room\"\n";
+const ONE: &str = "[[characters]]\nname = \"a\"\nsource = \"generated:humanoid?vertices=3000\"\nplacement = { start = { translation = [1, 0, 1] } }\n";
+
+#[test]
+fn bad_worlds_fail_in_one_line_naming_the_field() {
+    let cases = [
+        (
+            format!("{ROOM}{ONE}{ONE}"),
+            "characters[1].name: two characters named \"a\"",
+        ),
+        (
+            format!("{ROOM}{ONE}[[objects]]\nname = \"b\"\nkind = \"ball\"\n"),
+            "objects[0].motion: no motion keys",
+        ),
+        (
+            format!(
+                "{ROOM}{ONE}[[objects]]\nname = \"b\"\nkind = \"ball\"\nmotion = {{ times = [0, 1, 0.5], positions = [[0,0,0],[1,0,0],[2,0,0]] }}\n"
+            ),
+            "objects[0].motion.times: keys out of time order: times[2] = 0.5 after times[1] = 1",
+        ),
+        (
+            format!(
+                "{ROOM}{ONE}[[objects]]\nname = \"b\"\nkind = \"sphere\"\nmotion = {{ times = [0], positions = [[0,0,0]] }}\n"
+            ),
+            "objects[0].kind: unknown object kind \"sphere\"",
+        ),
+        (
+            format!(
+                "{ROOM}{ONE}[[objects]]\nname = \"d\"\nkind = \"door\"\nmotion = {{ times = [0, 1], degrees = [0, 90], axis = [0, 0, 0] }}\n"
+            ),
+            "objects[0].motion.axis: a hinge axis of zero length",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = parse_error(&text);
+        assert!(e.starts_with("bad.toml:"), "{e}");
+        assert!(e.contains(want), "wanted {want:?} in {e:?}");
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
