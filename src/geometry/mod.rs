@@ -43,6 +43,13 @@ pub type Point = nalgebra::Point3<Real>;
 /// A displacement.
 pub type Vector = nalgebra::Vector3<Real>;
 
+/// Axis-aligned extent `(min, max)` of `points`; `None` when there are none.
+pub fn bounds_of(points: impl IntoIterator<Item = Point>) -> Option<(Point, Point)> {
+    let mut it = points.into_iter();
+    let first = it.next()?;
+    Some(it.fold((first, first), |(lo, hi), p| (lo.inf(&p), hi.sup(&p))))
+}
+
 /// Basic operations (additions and multiplications) charged per test in the
 /// paper's cost model (§6). The "Operations" column of Tables 2–3 is
 /// `10·SS + 96·TT + 30·PS`.

@@ -29,7 +29,6 @@ use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded};
 
 use super::EnvironmentTree;
-use super::LeafTest;
 use super::driver::{FrameCounters, Pipeline, TimedRefit, ticks};
 
 /// Relative slack added to a sphere's radius when it changes frame: a rigid
@@ -96,9 +95,9 @@ impl Pipeline {
 
     /// The pass against a moving object whose hierarchy `object` and mesh
     /// `mesh` are in its own frame and whose pose this frame is `pose`
-    /// (object frame → world), after [`Pipeline::begin_frame`]. Appends the
-    /// colliding `(character triangle, object triangle)` pairs to `pairs`
-    /// (sorted and distinct within this call).
+    /// (object frame → world), after [`Pipeline::begin_frame`]. Fills
+    /// `pairs` with the colliding `(character triangle, object triangle)`
+    /// pairs, sorted and distinct.
     pub fn detect_object(
         &mut self,
         buffers: &PoseBuffers,
@@ -131,13 +130,7 @@ impl Pipeline {
         let mut b = Fixed(&object.tree);
         let mut guard_tests = 0u64;
         let stats = if self.method.prunes_at_plane() {
-            let guard = |j: NodeId, s: &Sphere| match object.leaf_meets_plane(j, s) {
-                None => true,
-                Some(meets) => {
-                    guard_tests += 1;
-                    meets
-                }
-            };
+            let guard = object.plane_guard(&mut guard_tests);
             traverse_guarded(&mut a, &mut b, &mut self.workspace, guard, |p| {
                 leaf_pairs.push(p)
             })
@@ -152,12 +145,11 @@ impl Pipeline {
         c.sphere_sphere = stats.sphere_tests;
         c.plane_sphere = guard_tests;
 
-        let plane_sphere_leaves = self.method.big_leaf_test() == LeafTest::PlaneSphere;
         let model = self.options.skinning;
         let indices = character.mesh.indices();
         let t0 = Instant::now();
         for p in &self.object_leaf_pairs {
-            if !(plane_sphere_leaves && object.is_division_leaf(p.leaf_b)) {
+            if !self.answers_by_plane(object, p.leaf_b) {
                 for v in indices[p.primitive_a as usize] {
                     self.skin.ensure(buffers, character, model, v);
                 }
@@ -166,9 +158,9 @@ impl Pipeline {
         c.time.skinning_ms = t0.elapsed().as_secs_f64() * 1e3;
 
         let t0 = Instant::now();
-        let start = pairs.len();
+        pairs.clear();
         for p in &self.object_leaf_pairs {
-            let hit = if plane_sphere_leaves && object.is_division_leaf(p.leaf_b) {
+            let hit = if self.answers_by_plane(object, p.leaf_b) {
                 if self.method.prunes_at_plane() {
                     true
                 } else {
@@ -190,16 +182,10 @@ impl Pipeline {
                 pairs.push((p.primitive_a, p.primitive_b));
             }
         }
-        pairs[start..].sort_unstable();
-        let mut kept = start;
-        for i in start..pairs.len() {
-            if i == start || pairs[i] != pairs[kept - 1] {
-                pairs[kept] = pairs[i];
-                kept += 1;
-            }
-        }
-        pairs.truncate(kept);
-        c.pairs = (kept - start) as u64;
+        // A big triangle's leaves all name it: repeats removed.
+        pairs.sort_unstable();
+        pairs.dedup();
+        c.pairs = pairs.len() as u64;
         c.refits = self.refit.refits - refits_before;
         c.skinned_vertices = self.skin.skinned() - skinned_before;
         c.time.narrow_ms = t0.elapsed().as_secs_f64() * 1e3;
@@ -210,9 +196,8 @@ impl Pipeline {
 /// Two characters of a world against each other, after both pipelines'
 /// [`Pipeline::begin_frame`]: one simultaneous traversal refitting both
 /// trees on demand, then the triangle-triangle test at every overlapping
-/// leaf pair. Appends the colliding `(triangle of a, triangle of b)` pairs
-/// to `pairs` (sorted and distinct within this call); `leaf_pairs` and
-/// `workspace` are scratch.
+/// leaf pair. Fills `pairs` with the colliding `(triangle of a, triangle of
+/// b)` pairs, sorted and distinct; `leaf_pairs` and `workspace` are scratch.
 #[allow(clippy::too_many_arguments)]
 pub fn detect_characters(
     a: &mut Pipeline,
@@ -273,7 +258,7 @@ pub fn detect_characters(
     c.time.skinning_ms = t0.elapsed().as_secs_f64() * 1e3;
 
     let t0 = Instant::now();
-    let start = pairs.len();
+    pairs.clear();
     for p in leaf_pairs.iter() {
         c.tri_tri += 1;
         let ta = ia[p.primitive_a as usize].map(|v| a.skin.position(v));
@@ -286,8 +271,8 @@ pub fn detect_characters(
         }
     }
     // Leaves are distinct triangles on both sides: no repeats to remove.
-    pairs[start..].sort_unstable();
-    c.pairs = (pairs.len() - start) as u64;
+    pairs.sort_unstable();
+    c.pairs = pairs.len() as u64;
     c.refits = a.refit.refits + b.refit.refits - refits_before;
     c.skinned_vertices = a.skin.skinned() + b.skin.skinned() - skinned_before;
     c.time.narrow_ms = t0.elapsed().as_secs_f64() * 1e3;

@@ -379,18 +379,7 @@ impl Pipeline {
         };
         let mut guard_tests = 0u64;
         let stats = if self.method.prunes_at_plane() {
-            // Every character sphere paired with a big triangle's leaf must
-            // meet that triangle's plane (Algorithm 1), or the pair is dropped
-            // with everything under it: a triangle crossing the big triangle
-            // has corners on both sides of its plane, so every sphere holding
-            // it meets the plane, and no contact is lost.
-            let guard = |j: NodeId, s: &crate::geometry::Sphere| match envt.leaf_meets_plane(j, s) {
-                None => true,
-                Some(meets) => {
-                    guard_tests += 1;
-                    meets
-                }
-            };
+            let guard = envt.plane_guard(&mut guard_tests);
             traverse_guarded(&mut od, &mut env_side, &mut self.workspace, guard, |p| {
                 leaf_pairs.push(p)
             })
@@ -431,8 +420,15 @@ impl Pipeline {
     /// triangle-triangle test.
     #[inline]
     fn plane_sphere_leaf(&self, p: &LeafPair) -> bool {
-        self.environment.is_division_leaf(p.leaf_b)
-            && self.method.big_leaf_test() == LeafTest::PlaneSphere
+        self.answers_by_plane(&self.environment, p.leaf_b)
+    }
+
+    /// Whether a leaf pair whose second leaf is `leaf` of `tree` (the room
+    /// or a moving object) is answered by the plane-sphere test: a big
+    /// triangle's division leaf, in a plane-sphere method.
+    #[inline]
+    pub(super) fn answers_by_plane(&self, tree: &EnvironmentTree, leaf: NodeId) -> bool {
+        tree.is_division_leaf(leaf) && self.method.big_leaf_test() == LeafTest::PlaneSphere
     }
 
     /// This frame's overlapping leaf pairs, as traversal handed them to the

@@ -176,6 +176,26 @@ impl EnvironmentTree {
         }
     }
 
+    /// The guard of the methods that test the plane on the way down: a
+    /// sphere paired with a big triangle's division leaf must meet that
+    /// triangle's plane (Algorithm 1), or the pair is dropped with everything
+    /// under it. A triangle crossing the big triangle has corners on both
+    /// sides of its plane, so every sphere holding it meets the plane, and no
+    /// contact is lost. Each plane test made adds one to `tests`.
+    #[inline]
+    pub fn plane_guard<'a>(
+        &'a self,
+        tests: &'a mut u64,
+    ) -> impl FnMut(NodeId, &Sphere) -> bool + 'a {
+        move |j, s| match self.leaf_meets_plane(j, s) {
+            None => true,
+            Some(meets) => {
+                *tests += 1;
+                meets
+            }
+        }
+    }
+
     /// Whether node `id` is a leaf of a big triangle's division.
     #[inline]
     pub fn is_division_leaf(&self, id: NodeId) -> bool {

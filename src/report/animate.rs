@@ -312,15 +312,6 @@ fn check_pose(clip: &Clip, time: f32, buffers: &PoseBuffers) -> Result<(), Anima
     Ok(())
 }
 
-fn bounds(positions: &[Point]) -> (Point, Point) {
-    let (mut lo, mut hi) = (positions[0], positions[0]);
-    for p in positions {
-        lo = lo.inf(p);
-        hi = hi.sup(p);
-    }
-    (lo, hi)
-}
-
 fn ms(t0: Instant) -> f64 {
     t0.elapsed().as_secs_f64() * 1e3
 }
@@ -328,7 +319,8 @@ fn ms(t0: Instant) -> f64 {
 /// A square grid floor (Y up) just under the lowest vertex, twice the
 /// character's footprint, in cells of about 2% of the model size.
 fn floor_under(positions: &[Point], size: f32) -> SphereTree {
-    let (lo, hi) = bounds(positions);
+    let (lo, hi) = crate::geometry::bounds_of(positions.iter().copied())
+        .expect("a posed character has vertices");
     let cx = 0.5 * (lo.x + hi.x);
     let cz = 0.5 * (lo.z + hi.z);
     let half = (hi.x - lo.x).max(hi.z - lo.z).max(1e-3 * size);

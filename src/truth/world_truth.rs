@@ -16,7 +16,7 @@ use serde::Serialize;
 
 use super::{Accuracy, FrameTruth, TruthError};
 use crate::character::PoseBuffers;
-use crate::geometry::Point;
+use crate::geometry::{Point, bounds_of};
 use crate::mesh::TriMesh;
 use crate::scenario::Resolved;
 use crate::world::{ByKind, CharacterPair, MethodOutcome, ObjectPair, RoomPair};
@@ -39,12 +39,6 @@ pub struct WorldTruth {
     pub exact: WorldPairs,
     /// parry's colliding pairs.
     pub parry: WorldPairs,
-}
-
-fn bounds(points: impl Iterator<Item = Point>) -> Option<(Point, Point)> {
-    let mut it = points.peekable();
-    let first = *it.peek()?;
-    Some(it.fold((first, first), |(lo, hi), p| (lo.inf(&p), hi.sup(&p))))
 }
 
 fn overlap(a: Option<(Point, Point)>, b: Option<(Point, Point)>) -> bool {
@@ -93,7 +87,7 @@ impl WorldTruth {
         parry.characters.clear();
         let boxes: Vec<_> = buffers
             .iter()
-            .map(|b| bounds(b.positions.iter().copied()))
+            .map(|b| bounds_of(b.positions.iter().copied()))
             .collect();
         for (i, (a, b)) in scene.characters.iter().zip(buffers).enumerate() {
             let indices = a.character.mesh.indices();
@@ -107,7 +101,7 @@ impl WorldTruth {
             exact.environment.extend(t.exact.iter().map(room));
             parry.environment.extend(t.parry.iter().map(room));
             for (o, (prop, pose)) in scene.objects.iter().zip(poses).enumerate() {
-                let obox = bounds(prop.mesh.positions().iter().map(|p| pose * p));
+                let obox = bounds_of(prop.mesh.positions().iter().map(|p| pose * p));
                 if !overlap(boxes[i], obox) {
                     continue;
                 }

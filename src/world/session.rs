@@ -327,7 +327,6 @@ impl MethodWorld {
                         continue;
                     }
                     s.body_pairs += 1;
-                    s.pairs.clear();
                     let c = pipe.detect_object(
                         b,
                         &actor.character,
@@ -400,7 +399,6 @@ impl MethodWorld {
                     let mut pb = characters[j as usize].lock().expect("no pass panicked");
                     s.a = i;
                     s.b = j;
-                    s.pairs.clear();
                     let (ai, aj) = (&scene.characters[i as usize], &scene.characters[j as usize]);
                     s.counters = detect_characters(
                         &mut pa,
@@ -427,6 +425,9 @@ impl MethodWorld {
         out.broad_phase_tests = char_tests;
         out.body_pairs = self.candidates.len() as u64;
         out.by_kind.characters.sphere_sphere += char_tests;
+        // Refits and skinned vertices: each character's own count for the
+        // frame (every pass adds to it once).
+        let (mut refits, mut skinned) = (0, 0);
         for (i, (s, pipe)) in self
             .per_character
             .iter()
@@ -434,6 +435,8 @@ impl MethodWorld {
             .enumerate()
         {
             let pipe = pipe.get_mut().expect("no pass panicked");
+            refits += pipe.refit_state().refits;
+            skinned += pipe.skinned().skinned();
             add_counters(&mut out.by_kind.environment, &s.room);
             add_counters(&mut out.by_kind.objects, &s.objects);
             out.by_kind.objects.sphere_sphere += s.broad_phase_tests;
@@ -461,14 +464,6 @@ impl MethodWorld {
         out.character_pairs.sort_unstable();
         for k in super::PairKind::ALL {
             add_counters(&mut out.total, out.by_kind.get(k));
-        }
-        // Refits and skinned vertices: each character's own count for the
-        // frame (every pass adds to it once).
-        let (mut refits, mut skinned) = (0, 0);
-        for p in self.characters.iter_mut() {
-            let p = p.get_mut().expect("no pass panicked");
-            refits += p.refit_state().refits;
-            skinned += p.skinned().skinned();
         }
         out.total.refits = refits;
         out.total.skinned_vertices = skinned;
