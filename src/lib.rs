@@ -6,6 +6,7 @@
 //!
 //! | module | what | paper |
 //! |---|---|---|
+//! | [`bench`] | cost per frame against the parry3d baseline, in one run; scaling variants | (performance) |
 //! | [`geometry`] | points, spheres, triangles; the tests of the operation model; enclosing spheres; exact oracle | §2, §3, §5, §6 |
 //! | [`mesh`] | indexed triangle meshes; edge de-duplication | §4 |
 //! | [`sphere_tree`] | sphere-tree build, n-ary collapse, validation, simultaneous traversal | §3 |
@@ -22,6 +23,7 @@
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
 
+pub mod bench;
 pub mod big_triangle;
 pub mod character;
 pub mod environment;

@@ -298,24 +298,43 @@ fn path_walks_facing_the_direction() {
     let path = temp_dir().join("path.toml");
     std::fs::write(&path, text).unwrap();
     let r = resolve(&load_scenario(&path).unwrap(), &temp_dir()).unwrap();
-    // Frame 30 at 30 fps: 1.5 m along the first leg, facing +X.
-    let iso = r.first().placement_at(30);
-    assert!((iso.translation.vector - nalgebra::Vector3::new(2.5, 0.0, 1.0)).norm() < 1e-5);
+    let actor = r.first();
+    // The root joint (the pelvis) follows the path exactly: the walk clip's
+    // own forward travel (about 1.35 m a stride) is taken out.
+    let mut buffers = cornertree::character::PoseBuffers::new(&actor.character);
+    let mut pelvis = |k: usize| {
+        actor.pose_frame(&mut buffers, k);
+        let m = buffers.world[0];
+        nalgebra::Vector3::new(m[(0, 3)], 0.0, m[(2, 3)])
+    };
+    let p0 = pelvis(0);
+    for k in [10, 30, 50] {
+        // Frame k at 30 fps: 0.05·k m along the first leg (+X).
+        let moved = pelvis(k) - p0;
+        let along = nalgebra::Vector3::new(0.05 * k as f32, 0.0, 0.0);
+        assert!((moved - along).norm() < 1e-4, "frame {k}: {moved}");
+    }
+    // Frame 30 faces +X.
+    let iso = actor.placement_at(30);
     let forward = iso.rotation * nalgebra::Vector3::z();
     assert!(
         (forward - nalgebra::Vector3::x()).norm() < 1e-5,
         "{forward}"
     );
-    // Frame 90: 4.5 m = 3 m + 1.5 m up the second leg, facing +Z; long after: the end.
+    // Frame 90: 4.5 m = 3 m + 1.5 m up the second leg, facing +Z; long after,
+    // the end (the pelvis where the path says, less its rest offset, which
+    // turns with the character).
+    let rest = p0 - nalgebra::Vector3::new(1.0, 0.0, 1.0);
+    let turned = nalgebra::Vector3::new(-rest.z, 0.0, rest.x);
+    for (k, at, r) in [(90, [4.0, 2.5], turned), (1000, [4.0, 3.0], turned)] {
+        let want = nalgebra::Vector3::new(at[0], 0.0, at[1]) + r;
+        let got = pelvis(k);
+        assert!((got - want).norm() < 1e-4, "frame {k}: {got} vs {want}");
+    }
+    let forward = actor.placement_at(90).rotation * nalgebra::Vector3::z();
     assert!(
-        (r.first().placement_at(90).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 2.5))
-            .norm()
-            < 1e-5
-    );
-    assert!(
-        (r.first().placement_at(1000).translation.vector - nalgebra::Vector3::new(4.0, 0.0, 3.0))
-            .norm()
-            < 1e-5
+        (forward - nalgebra::Vector3::z()).norm() < 1e-5,
+        "{forward}"
     );
 }
 

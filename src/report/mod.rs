@@ -3,6 +3,7 @@
 //! | file | what |
 //! |---|---|
 //! | [`animate`] | clip playback: refit containment, tightness, per-frame costs |
+//! | [`bench`] | `bench`'s table and the scaling studies' markdown tables |
 //! | [`kernels`] | operations charged and paid per kernel, time per test (`cornertree kernels`) |
 //! | [`kernel_inputs`] | the seeded mixed inputs of `cornertree kernels` |
 //! | [`inspect`] | static mesh summary: counts, de-duplication, tree shape and bytes |
@@ -12,6 +13,7 @@
 //! | [`tables`] | Table 1 and the environment hierarchies per method |
 
 pub mod animate;
+pub mod bench;
 pub mod inspect;
 pub mod kernel_inputs;
 pub mod kernels;

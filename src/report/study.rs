@@ -48,7 +48,7 @@ pub fn thousands(n: u64) -> String {
     let s = n.to_string();
     let mut out = String::new();
     for (i, ch) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(ch);
@@ -80,6 +80,7 @@ impl StudyTable<'_> {
 
     /// Scenarios in order of first appearance, each with its rows and the
     /// paper's line.
+    #[allow(clippy::type_complexity)]
     fn groups(&self) -> Vec<(&str, Vec<[String; 12]>, Option<[String; 12]>)> {
         let mut names: Vec<&str> = Vec::new();
         for r in self.0 {

@@ -15,9 +15,9 @@
 
 use std::path::{Path, PathBuf};
 
-use nalgebra::{Isometry3, Translation3, UnitQuaternion, Vector3};
+use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
 
-use crate::character::{Character, Clip, PoseBuffers, SkinningModel, generate_humanoid};
+use crate::character::{Character, Clip, JointId, PoseBuffers, SkinningModel, generate_humanoid};
 use crate::environment::{
     Environment, living_room, living_room_scaled, load_scene, museum, museum_scaled,
 };
@@ -84,11 +84,16 @@ pub struct Prop {
 pub enum PlacementPlan {
     /// The same transform at every frame (`start`, `gap`).
     Fixed(Isometry3<Real>),
-    /// Waypoints walked at `speed` m/s from frame 0, facing the walking direction.
+    /// Waypoints walked at `speed` m/s from frame 0, facing the walking
+    /// direction. The path alone moves the character: `root_motion[k]`, the
+    /// clip's own horizontal travel at frame `k` (its root joint's, from the
+    /// clip's start), is taken back out, so a walk clip that moves forward
+    /// walks in place along the path.
     Walk {
         waypoints: Vec<Vector3<Real>>,
         speed: Real,
         fps: Real,
+        root_motion: Vec<Vector3<Real>>,
     },
 }
 
@@ -186,9 +191,41 @@ impl PlacementPlan {
                 waypoints,
                 speed,
                 fps,
-            } => walk_at(waypoints, speed * frame as Real / fps),
+                root_motion,
+            } => {
+                let back = root_motion
+                    .get(frame)
+                    .or(root_motion.last())
+                    .copied()
+                    .unwrap_or_else(Vector3::zeros);
+                walk_at(waypoints, speed * frame as Real / fps) * Translation3::from(-back)
+            }
         }
     }
+}
+
+/// The clip's horizontal travel at each of `times`: the first root joint's
+/// position in the model frame (through the skeleton's base) minus its position at the clip's start, with
+/// the vertical part dropped. Zero without a clip.
+fn root_motion(character: &Character, clip: Option<&Clip>, times: &[Real]) -> Vec<Vector3<Real>> {
+    let Some(clip) = clip else {
+        return vec![Vector3::zeros(); times.len()];
+    };
+    let skeleton = &character.skeleton;
+    let Some(root) = (0..skeleton.len()).find(|&j| skeleton.parent(JointId(j as u16)).is_none())
+    else {
+        return vec![Vector3::zeros(); times.len()];
+    };
+    let mut local = skeleton.rest_pose();
+    let mut world = vec![Matrix4::identity(); skeleton.len()];
+    let mut at = |t: Real| {
+        clip.sample(t, skeleton.rest_pose_ref(), &mut local);
+        skeleton.world_matrices(&local, &mut world);
+        let m = world[root];
+        Vector3::new(m[(0, 3)], 0.0, m[(2, 3)])
+    };
+    let start = at(clip.start());
+    times.iter().map(|&t| at(t) - start).collect()
 }
 
 /// Rotation about +Y taking the character's forward (+Z) to `(sin yaw, 0, cos yaw)`.
@@ -329,6 +366,7 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
                         waypoints,
                         speed: w.speed,
                         fps: s.fps,
+                        root_motion: root_motion(&character, clip, &times),
                     },
                     None,
                 )

@@ -4,6 +4,7 @@
 //! | file | what |
 //! |---|---|
 //! | [`parry_reference`] | [`ParryReference`]: parry3d's triangle meshes and BVH leaf pairs, decided by parry's triangle-triangle test (GJK) or by the exact oracle; a brute-force exact helper |
+//! | [`parry_world`] | [`ParryWorld`]: the parry3d baseline for a whole world (a `TriMesh` per body, a broad phase over their boxes, BVH leaf pairs, parry's `f32` test) |
 //! | [`disagreement`] | the pairs two answers differ on, each classified as touching, near-degenerate or a true error |
 //! | [`frame_truth`] | a frame's truth (exact pairs on parry's broad phase), parry's answer beside it, and a method's score: accuracy, false positives with distances, false negatives with causes |
 //! | [`accuracy`] | precision and recall per frame and over a run, at the levels of pairs, character triangles and frames |
@@ -23,6 +24,7 @@ pub mod accuracy;
 pub mod disagreement;
 pub mod frame_truth;
 pub mod parry_reference;
+pub mod parry_world;
 pub mod world_truth;
 
 pub use accuracy::{Accuracy, AccuracyTotals, FrameAccuracy};
@@ -31,6 +33,7 @@ pub use frame_truth::{
     FalseNegative, FalsePositive, FrameTruth, MethodContext, MethodTruth, MissCause,
 };
 pub use parry_reference::{ParryReference, brute_force_pairs};
+pub use parry_world::ParryWorld;
 pub use world_truth::{WorldPairs, WorldTruth};
 
 /// Why a ground-truth query cannot be answered.

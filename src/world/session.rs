@@ -51,6 +51,8 @@ pub struct World {
     /// The next frame to play.
     next: usize,
     pool: rayon::ThreadPool,
+    /// One thread, for [`World::detect_method_on_one_thread`].
+    serial: rayon::ThreadPool,
     threads: usize,
 }
 
@@ -102,6 +104,7 @@ impl World {
             .num_threads(threads)
             .build()?;
         let threads = pool.current_num_threads();
+        let serial = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
         let dedups: Vec<EdgeDedup> = scene
             .characters
             .iter()
@@ -134,6 +137,7 @@ impl World {
             pose_ms: 0.0,
             next: 0,
             pool,
+            serial,
             threads,
         })
     }
@@ -210,6 +214,16 @@ impl World {
 
     /// Runs method `m` (an index into `methods`) on the current pose.
     pub fn detect_method(&mut self, m: usize) {
+        self.detect_method_in(m, false);
+    }
+
+    /// Like [`World::detect_method`] on one thread, whatever
+    /// [`World::threads`] says (`bench` measures both in one run).
+    pub fn detect_method_on_one_thread(&mut self, m: usize) {
+        self.detect_method_in(m, true);
+    }
+
+    fn detect_method_in(&mut self, m: usize, one_thread: bool) {
         let World {
             scene,
             methods,
@@ -217,11 +231,23 @@ impl World {
             object_poses,
             pose_ms,
             pool,
+            serial,
             ..
         } = self;
         let mw = &mut methods[m];
+        let pool = if one_thread { serial } else { pool };
         pool.install(|| mw.detect(scene, buffers, object_poses));
         mw.outcome.total.time.pose_ms = *pose_ms;
+    }
+
+    /// Times each sphere refit apart from the traversal (on by default;
+    /// `bench` turns it off: the timers cost time).
+    pub fn set_refit_timing(&mut self, on: bool) {
+        for mw in &mut self.methods {
+            for p in mw.pipelines() {
+                p.set_refit_timing(on);
+            }
+        }
     }
 }
 

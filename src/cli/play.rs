@@ -1,16 +1,17 @@
-//! `cornertree run`: a scenario through every chosen method, frame by frame,
-//! recorded to Rerun. (Kept beside `main.rs`: command-line plumbing only; the
-//! work is in the library.)
+//! The frame loop `run` and `compare` observe: a [`World`] plays the
+//! scenario, and the ground truth, the JSON report, the recordings, frame
+//! dumps and the progress bar read each frame's outcome (none of them
+//! changes the measured work).
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
-use clap::parser::ValueSource;
 use cornertree::character::SkinningModel;
+use cornertree::pipeline::LeafTest;
+use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::Pipeline;
-use cornertree::pipeline::{LeafTest, Method};
 use cornertree::record::blueprint::run_blueprint;
 use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
@@ -22,66 +23,23 @@ use cornertree::truth::WorldTruth;
 use cornertree::truth::{FrameTruth, MethodContext};
 use cornertree::world::World;
 
-#[derive(clap::Args)]
-pub struct RunArgs {
-    /// A scenario file (TOML; see docs/scenarios.md and scenarios/).
-    pub scenario: PathBuf,
-    /// Run only this method (repeat for several); default: the scenario's methods.
-    #[arg(long = "method", value_enum)]
-    pub methods: Vec<Method>,
-    /// Play this many frames instead of the scenario's.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
-    pub frames: Option<u64>,
-    /// Write the per-frame report as JSON to this file: with one method, an
-    /// object with `scenario`, `method`, `hierarchy_bytes` and `frames`; with
-    /// several, `{"scenario", "runs": [those objects]}`.
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// Turn edge de-duplication off, whatever the scenario says.
-    #[arg(long)]
-    pub no_dedup: bool,
-    /// Skinning model, whatever the scenario says: `paper` (§3's one-joint
-    /// model) or `linear` (glTF linear blend skinning).
-    #[arg(long, value_enum)]
+use super::args::ScenarioArgs;
+
+/// What `run` and `compare` ask of the frame loop.
+pub struct PlayArgs {
+    pub common: ScenarioArgs,
     pub skinning: Option<SkinningModel>,
-    /// Skip the ground truth (exact pairs on parry's broad phase, and parry's
-    /// own answer) and the accuracy columns; faster on big scenes.
-    #[arg(long)]
     pub no_truth: bool,
-    /// Write frame K's posed character and environment to DIR/avatar.ply and
-    /// DIR/environment.ply (face i is triangle i of every report) and
-    /// DIR/pairs.json with `reported` (the first method's pairs), `reference`
-    /// (the exact pairs), `parry` and `reported_by_method`.
-    #[arg(long, num_args = 2, value_names = ["K", "DIR"])]
     pub dump_frame: Option<Vec<String>>,
-    /// Write no recording (by default each method is saved to
-    /// recordings/<scenario>-<method>.rrd unless --save, --connect, --spawn or
-    /// --stdout says otherwise; see docs/recordings.md).
-    #[arg(long, conflicts_with_all = ["save", "connect", "stdout"])]
-    pub no_record: bool,
-    /// Threads for the characters and body pairs of a frame (0: one per
-    /// core). Counters and pairs do not depend on it.
-    #[arg(long, default_value_t = 0)]
     pub threads: usize,
-    #[command(flatten)]
-    pub rerun: rerun::clap::RerunArgs,
+    pub style: Style,
 }
 
-/// Where recordings go, from what was actually typed: rerun's arguments
-/// default to spawning a viewer, ours to saving a file.
-pub fn recording_target(args: &RunArgs, matches: &clap::ArgMatches) -> RecordingTarget {
-    let typed = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
-    if args.no_record {
-        RecordingTarget::None
-    } else if typed("stdout") {
-        RecordingTarget::Rerun(args.rerun.clone(), true)
-    } else if let Some(path) = matches.get_one::<PathBuf>("save") {
-        RecordingTarget::Save(path.clone())
-    } else if typed("connect") || typed("spawn") {
-        RecordingTarget::Rerun(args.rerun.clone(), false)
-    } else {
-        RecordingTarget::Default
-    }
+/// How the summary table is printed.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    Text,
+    Markdown,
 }
 
 /// Set by Ctrl-C: the frame loop stops after the current frame.
@@ -127,84 +85,19 @@ fn discard(paths: &[PathBuf]) {
     }
 }
 
-/// `cornertree compare`: every method on the same frames, no recording.
-#[derive(clap::Args)]
-pub struct CompareArgs {
-    /// A scenario file (TOML; see docs/scenarios.md and scenarios/).
-    pub scenario: PathBuf,
-    /// Play this many frames instead of the scenario's.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
-    pub frames: Option<u64>,
-    /// Write every method's per-frame report as JSON (as `run --json`).
-    #[arg(long)]
-    pub json: Option<PathBuf>,
-    /// Print the table as Markdown.
-    #[arg(long)]
-    pub markdown: bool,
-    /// Turn edge de-duplication off, whatever the scenario says.
-    #[arg(long)]
-    pub no_dedup: bool,
-    /// Skinning model, whatever the scenario says: `paper` (§3's one-joint
-    /// model) or `linear` (glTF linear blend skinning).
-    #[arg(long, value_enum)]
-    pub skinning: Option<SkinningModel>,
-}
-
-/// How the summary table is printed.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Style {
-    Text,
-    Markdown,
-}
-
-pub fn compare(args: CompareArgs) -> anyhow::Result<String> {
-    use clap::{Args, FromArgMatches};
-    let no_rerun = rerun::clap::RerunArgs::from_arg_matches(
-        &rerun::clap::RerunArgs::augment_args(clap::Command::new("compare"))
-            .get_matches_from(["compare"]),
-    )?;
-    let run_args = RunArgs {
-        scenario: args.scenario,
-        methods: Method::ALL.to_vec(),
-        frames: args.frames,
-        json: args.json,
-        no_dedup: args.no_dedup,
-        skinning: args.skinning,
-        no_truth: false,
-        dump_frame: None,
-        no_record: true,
-        threads: 0,
-        rerun: no_rerun,
-    };
-    let style = if args.markdown {
-        Style::Markdown
-    } else {
-        Style::Text
-    };
-    play(run_args, RecordingTarget::None, style)
-}
-
-pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
-    play(args, target, Style::Text)
-}
-
-fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<String> {
+pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     let started = std::time::Instant::now();
     // Everything that can be wrong with the input fails here, before any file
     // is created.
-    let mut resolved = open_scenario_with(&args.scenario, |s| {
+    let style = args.style;
+    let mut resolved = open_scenario_with(&args.common.scenario, |s| {
         if let Some(model) = args.skinning {
             for c in &mut s.characters {
                 c.character.skinning = model;
             }
         }
     })?;
-    if !args.methods.is_empty() {
-        resolved.methods = args.methods.clone();
-    }
-    if args.no_dedup {
-        resolved.dedup = false;
-    }
+    args.common.apply(&mut resolved, None);
     let is_world = resolved.characters.len() > 1 || !resolved.objects.is_empty();
     let mut notes = Vec::new();
     let target = match (is_world, target) {
@@ -221,11 +114,11 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         (true, _) => anyhow::bail!(
             "{}: recordings of worlds with several characters or moving objects are not \
              implemented yet; run with --no-record",
-            args.scenario.display()
+            args.common.scenario.display()
         ),
     };
     target.check(resolved.methods.len())?;
-    let frames = args.frames.map_or(resolved.frames(), |f| f as usize);
+    let frames = args.common.frames.map_or(resolved.frames(), |f| f as usize);
     resolved.frames = frames;
     let dump = match &args.dump_frame {
         Some(_) if is_world => anyhow::bail!(
@@ -248,7 +141,7 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         }
         None => None,
     };
-    let name = scenario_name(&args.scenario);
+    let name = scenario_name(&args.common.scenario);
     let progress = indicatif::ProgressBar::new(frames as u64);
     progress.set_style(
         indicatif::ProgressStyle::with_template(
@@ -508,7 +401,7 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     }
 
     let summaries: Vec<Summary> = runs.iter().map(MethodRun::summary).collect();
-    if let Some(path) = &args.json {
+    if let Some(path) = &args.common.json {
         let text = match runs.as_slice() {
             [one] => serde_json::to_string(one)?,
             _ => serde_json::to_string(&serde_json::json!({ "scenario": name, "runs": runs }))?,
@@ -593,7 +486,7 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
             ""
         }
     );
-    if let Some(path) = &args.json {
+    if let Some(path) = &args.common.json {
         out += &format!("report: {}\n", path.display());
     }
     if let Some((k, dir)) = &dump

@@ -1,0 +1,195 @@
+//! One run measuring each method against the parry3d baseline.
+//!
+//! Per frame every body is posed once (joint matrices, object poses), which
+//! every side needs and is charged with. The baseline then skins every vertex
+//! (parry's BVHs need them all), moves its meshes and finds its pairs
+//! ([`ParryWorld`]). Each method runs [`World::detect_method`] (refit on
+//! demand, traversal, skinning only the vertices its narrow phase reads, the
+//! narrow phase, every pair kind) on all of the world's threads and again on
+//! one thread, which gives its parallel speed-up in the same run. Sides are
+//! interleaved frame by frame, and which of a method's two runs goes first
+//! alternates, so machine noise hits every side alike; each side's time per
+//! frame is the median over frames.
+
+use std::time::Instant;
+
+use serde::Serialize;
+
+use crate::pipeline::Method;
+use crate::scenario::Resolved;
+use crate::truth::{ParryWorld, TruthError};
+use crate::world::{MethodOutcome, World};
+
+/// One method's measurement.
+#[derive(Clone, Debug, Serialize)]
+pub struct MethodBench {
+    pub method: Method,
+    /// Median wall time per frame (posing included) on all threads.
+    pub ms_per_frame: f64,
+    /// The same on one thread.
+    pub ms_per_frame_one_thread: f64,
+    /// `ms_per_frame_one_thread / ms_per_frame`.
+    pub parallel_speedup: f64,
+    /// parry's median over this method's (all threads).
+    pub speedup_vs_parry: f64,
+    pub operations_per_frame: f64,
+    /// Median of the method's own skinning (the vertices it tested; summed
+    /// over threads).
+    pub skinning_ms_per_frame: f64,
+    pub skinned_vertices_per_frame: f64,
+    pub pairs_per_frame: f64,
+    /// Frames whose pairs (any kind) differ from the baseline's.
+    pub frames_with_other_pairs_than_parry: usize,
+}
+
+/// A run's measurement.
+#[derive(Clone, Debug, Serialize)]
+pub struct Bench {
+    pub scenario: String,
+    pub frames: usize,
+    pub dedup: bool,
+    /// Threads of the methods' frames (the baseline runs on one).
+    pub threads: usize,
+    pub characters: usize,
+    pub objects: usize,
+    pub environment_vertices: usize,
+    /// Vertices of every character together.
+    pub vertices: usize,
+    pub parry_ms_per_frame: f64,
+    /// Leaf pairs parry's traversals yielded per frame (mean).
+    pub parry_candidates_per_frame: f64,
+    /// Posing (joint matrices, object poses), in every side's time.
+    pub pose_ms_per_frame: f64,
+    /// Skinning every vertex, in the baseline's time.
+    pub skinning_all_ms_per_frame: f64,
+    pub methods: Vec<MethodBench>,
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn same_pairs(o: &MethodOutcome, parry: &ParryWorld) -> bool {
+    o.room_pairs == parry.pairs.environment
+        && o.object_pairs == parry.pairs.objects
+        && o.character_pairs == parry.pairs.characters
+}
+
+/// Errors of a measurement.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    #[error("building the thread pool: {0}")]
+    Threads(#[from] rayon::ThreadPoolBuildError),
+    #[error("parry baseline: {0}")]
+    Parry(#[from] TruthError),
+}
+
+/// Plays `frames` frames of `scene` (its methods, its de-duplication) on
+/// `threads` threads (0: one per core) through every method and the parry3d
+/// baseline, interleaved, and returns the medians. Calls `tick` after each
+/// frame.
+pub fn measure(
+    scene: Resolved,
+    name: &str,
+    frames: usize,
+    threads: usize,
+    mut tick: impl FnMut(),
+) -> Result<Bench, BenchError> {
+    let mut world = World::new(scene, threads)?;
+    // Refit is timed with traversal: splitting it costs time.
+    world.set_refit_timing(false);
+    let mut parry = ParryWorld::new(&world.scene)?;
+    let n = world.methods.len();
+    let mut pose_ms = Vec::with_capacity(frames);
+    let mut skin_all_ms = Vec::with_capacity(frames);
+    let mut parry_ms = Vec::with_capacity(frames);
+    let mut parry_candidates = 0u64;
+    let mut all_ms = vec![Vec::with_capacity(frames); n];
+    let mut one_ms = vec![Vec::with_capacity(frames); n];
+    let mut skin_ms = vec![Vec::with_capacity(frames); n];
+    let (mut ops, mut skinned, mut pairs) = (vec![0u64; n], vec![0u64; n], vec![0u64; n]);
+    let mut differ = vec![0usize; n];
+    for k in 0..frames {
+        world.pose(k);
+        let pose = world.pose_ms;
+        pose_ms.push(pose);
+        let t0 = Instant::now();
+        world.skin_all();
+        let skin_all = t0.elapsed().as_secs_f64() * 1e3;
+        parry.update(&world.buffers, &world.object_poses)?;
+        parry.detect();
+        parry_ms.push(pose + t0.elapsed().as_secs_f64() * 1e3);
+        skin_all_ms.push(skin_all);
+        parry_candidates += parry.candidates;
+        for i in 0..n {
+            for one_thread in [k % 2 == 0, k % 2 != 0] {
+                if one_thread {
+                    world.detect_method_on_one_thread(i);
+                } else {
+                    world.detect_method(i);
+                }
+                let o = &world.methods[i].outcome;
+                let ms = pose + o.wall_ms;
+                if one_thread {
+                    one_ms[i].push(ms);
+                } else {
+                    all_ms[i].push(ms);
+                    skin_ms[i].push(o.total.time.skinning_ms);
+                }
+            }
+            let o = &world.methods[i].outcome;
+            ops[i] += o.total.operations();
+            skinned[i] += o.total.skinned_vertices;
+            pairs[i] += o.total.pairs;
+            if !same_pairs(o, &parry) {
+                differ[i] += 1;
+            }
+        }
+        tick();
+    }
+    let per_frame = |x: u64| x as f64 / frames.max(1) as f64;
+    let parry_median = median(&mut parry_ms);
+    let methods = (0..n)
+        .map(|i| {
+            let all = median(&mut all_ms[i]);
+            let one = median(&mut one_ms[i]);
+            let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
+            MethodBench {
+                method: world.methods[i].method,
+                ms_per_frame: all,
+                ms_per_frame_one_thread: one,
+                parallel_speedup: ratio(one, all),
+                speedup_vs_parry: ratio(parry_median, all),
+                operations_per_frame: per_frame(ops[i]),
+                skinning_ms_per_frame: median(&mut skin_ms[i]),
+                skinned_vertices_per_frame: per_frame(skinned[i]),
+                pairs_per_frame: per_frame(pairs[i]),
+                frames_with_other_pairs_than_parry: differ[i],
+            }
+        })
+        .collect();
+    let scene = &world.scene;
+    Ok(Bench {
+        scenario: name.to_string(),
+        frames,
+        dedup: scene.dedup,
+        threads: world.threads(),
+        characters: scene.characters.len(),
+        objects: scene.objects.len(),
+        environment_vertices: scene.environment.mesh.positions().len(),
+        vertices: scene
+            .characters
+            .iter()
+            .map(|a| a.character.mesh.positions().len())
+            .sum(),
+        parry_ms_per_frame: parry_median,
+        parry_candidates_per_frame: per_frame(parry_candidates),
+        pose_ms_per_frame: median(&mut pose_ms),
+        skinning_all_ms_per_frame: median(&mut skin_all_ms),
+        methods,
+    })
+}

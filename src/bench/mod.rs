@@ -1,0 +1,13 @@
+//! Cost per frame: every method on one [`crate::world::World`] against the
+//! parry3d baseline ([`crate::truth::ParryWorld`]), measured in one run, and
+//! the scenario variants of the scaling studies.
+//!
+//! | file | what |
+//! |---|---|
+//! | [`measure`] | [`measure::measure`]: frames interleaved between parry, each method on all threads and on one |
+//! | [`variants`] | a base scenario with another character size, room size or number of characters |
+
+pub mod measure;
+pub mod variants;
+
+pub use measure::{Bench, MethodBench, measure};

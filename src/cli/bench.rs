@@ -1,0 +1,64 @@
+//! `cornertree bench`: each method's cost per frame against the parry3d
+//! baseline, in one run (command-line plumbing; the work is in
+//! [`cornertree::bench`]).
+
+use anyhow::Context;
+use cornertree::bench::{Bench, measure};
+use cornertree::report::bench::BenchTable;
+use cornertree::scenario::{Resolved, open_scenario, scenario_name};
+
+use super::args::ScenarioArgs;
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub common: ScenarioArgs,
+    /// Threads for the methods' frames (0: one per core); each method is also
+    /// measured on one thread in the same run (`parallel_speedup`).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+}
+
+/// A progress bar over `len` frames.
+pub fn progress_bar(len: u64) -> indicatif::ProgressBar {
+    let p = indicatif::ProgressBar::new(len);
+    p.set_style(
+        indicatif::ProgressStyle::with_template(
+            "[{bar:30}] {pos}/{len} frames, {elapsed} (eta {eta}) {msg}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    p
+}
+
+/// Measures `scene` (methods and de-duplication already chosen).
+pub fn measure_with_progress(
+    scene: Resolved,
+    name: &str,
+    frames: usize,
+    threads: usize,
+    progress: &indicatif::ProgressBar,
+) -> anyhow::Result<Bench> {
+    measure(scene, name, frames, threads, || progress.inc(1))
+        .with_context(|| format!("{name}: measuring"))
+}
+
+pub fn bench(args: BenchArgs) -> anyhow::Result<String> {
+    let common = &args.common;
+    let mut scene = open_scenario(&common.scenario)?;
+    common.apply(&mut scene, Some(false));
+    scene.methods = common.methods_or_all();
+    let frames = common.frames.map_or(scene.frames(), |f| f as usize);
+    let progress = progress_bar(frames as u64);
+    let name = scenario_name(&common.scenario);
+    let result = measure_with_progress(scene, &name, frames, args.threads, &progress)?;
+    progress.finish_and_clear();
+    let mut out = BenchTable(&result).to_string();
+    if let Some(path) = &common.json {
+        std::fs::write(path, serde_json::to_string(&result)?)
+            .with_context(|| format!("{}: cannot write the report", path.display()))?;
+        out += &format!("report: {}\n", path.display());
+    }
+    Ok(out)
+}

@@ -1,0 +1,73 @@
+//! `cornertree run`: a scenario through its methods, frame by frame, recorded
+//! to Rerun (command-line plumbing; the frame loop is [`super::play`]).
+
+use std::path::PathBuf;
+
+use clap::parser::ValueSource;
+use cornertree::character::SkinningModel;
+use cornertree::record::target::RecordingTarget;
+
+use super::args::ScenarioArgs;
+use super::play::{PlayArgs, Style, play};
+
+#[derive(clap::Args)]
+pub struct RunArgs {
+    #[command(flatten)]
+    pub common: ScenarioArgs,
+    /// Skinning model, whatever the scenario says: `paper` (§3's one-joint
+    /// model) or `linear` (glTF linear blend skinning).
+    #[arg(long, value_enum)]
+    pub skinning: Option<SkinningModel>,
+    /// Skip the ground truth (exact pairs on parry's broad phase, and parry's
+    /// own answer) and the accuracy columns; faster on big scenes.
+    #[arg(long)]
+    pub no_truth: bool,
+    /// Write frame K's posed character and environment to DIR/avatar.ply and
+    /// DIR/environment.ply (face i is triangle i of every report) and
+    /// DIR/pairs.json with `reported` (the first method's pairs), `reference`
+    /// (the exact pairs), `parry` and `reported_by_method`.
+    #[arg(long, num_args = 2, value_names = ["K", "DIR"])]
+    pub dump_frame: Option<Vec<String>>,
+    /// Write no recording (by default each method is saved to
+    /// recordings/<scenario>-<method>.rrd unless --save, --connect, --spawn or
+    /// --stdout says otherwise; see docs/recordings.md).
+    #[arg(long, conflicts_with_all = ["save", "connect", "stdout"])]
+    pub no_record: bool,
+    /// Threads for the characters and body pairs of a frame (0: one per
+    /// core). Counters and pairs do not depend on it.
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    #[command(flatten)]
+    pub rerun: rerun::clap::RerunArgs,
+}
+
+/// Where recordings go, from what was actually typed: rerun's arguments
+/// default to spawning a viewer, ours to saving a file.
+pub fn recording_target(args: &RunArgs, matches: &clap::ArgMatches) -> RecordingTarget {
+    let typed = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+    if args.no_record {
+        RecordingTarget::None
+    } else if typed("stdout") {
+        RecordingTarget::Rerun(args.rerun.clone(), true)
+    } else if let Some(path) = matches.get_one::<PathBuf>("save") {
+        RecordingTarget::Save(path.clone())
+    } else if typed("connect") || typed("spawn") {
+        RecordingTarget::Rerun(args.rerun.clone(), false)
+    } else {
+        RecordingTarget::Default
+    }
+}
+
+pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
+    play(
+        PlayArgs {
+            common: args.common,
+            skinning: args.skinning,
+            no_truth: args.no_truth,
+            dump_frame: args.dump_frame,
+            threads: args.threads,
+            style: Style::Text,
+        },
+        target,
+    )
+}

@@ -1,0 +1,177 @@
+//! `cornertree scaling`: cost per frame against character size, room size and
+//! the number of characters (docs/performance.md), each configuration
+//! measured as `bench` measures (command-line plumbing; the variants are
+//! [`cornertree::bench::variants`]).
+
+use anyhow::Context;
+use cornertree::bench::{Bench, variants};
+use cornertree::report::bench::{Column, scaling_table};
+use cornertree::scenario::{Resolved, load_scenario, scenario_name};
+use serde::Serialize;
+
+use super::args::ScenarioArgs;
+use super::bench::{measure_with_progress, progress_bar};
+
+/// Character sizes of the study: about 3k, 10k, 44k (the paper's) and 100k.
+const CHARACTER_VERTICES: [usize; 4] = [3_000, 10_000, 44_345, 100_000];
+/// Environment sizes: about 10k, 133k (the paper's living room) and 500k.
+const ENVIRONMENT_VERTICES: [usize; 3] = [10_000, 133_139, 500_000];
+
+#[derive(clap::Args)]
+pub struct ScalingArgs {
+    /// Base scenario (its room must be generated for the room study). Frames
+    /// per configuration: --frames, default 16.
+    #[command(flatten)]
+    pub common: ScenarioArgs,
+    /// Character sizes (vertices, comma-separated) played in the base room;
+    /// empty (`--characters=`) skips the study.
+    #[arg(long, value_delimiter = ',', default_values_t = CHARACTER_VERTICES)]
+    pub characters: Vec<usize>,
+    /// Room sizes (vertices, comma-separated) with the character of
+    /// --character-size; empty skips the study.
+    #[arg(long, value_delimiter = ',', default_values_t = ENVIRONMENT_VERTICES)]
+    pub environments: Vec<usize>,
+    /// Character size (vertices) of the room study.
+    #[arg(long, default_value_t = 44_345)]
+    pub character_size: usize,
+    /// Crowd study: this many generated humanoids (comma-separated counts, e.g.
+    /// 1,2,4,8,16,32) walking in lanes in the base room, neighbours brushing
+    /// as they pass; nothing by default.
+    #[arg(long, value_delimiter = ',')]
+    pub characters_count: Vec<usize>,
+    /// Vertices of each humanoid of the crowd study.
+    #[arg(long, default_value_t = 10_000)]
+    pub crowd_vertices: usize,
+    /// Threads for the methods' frames (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+}
+
+#[derive(Serialize)]
+struct Scaling {
+    base_scenario: String,
+    frames: u64,
+    by_character: Vec<Bench>,
+    by_environment: Vec<Bench>,
+    by_characters_count: Vec<Bench>,
+}
+
+enum Study {
+    Character(usize),
+    Environment(usize),
+    Crowd(usize),
+}
+
+pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
+    let common = &args.common;
+    let methods = common.methods_or_all();
+    let name = scenario_name(&common.scenario);
+    let frames = common.frames.unwrap_or(16);
+    let studies: Vec<Study> = args
+        .characters
+        .iter()
+        .map(|&c| Study::Character(c))
+        .chain(args.environments.iter().map(|&e| Study::Environment(e)))
+        .chain(args.characters_count.iter().map(|&n| Study::Crowd(n)))
+        .collect();
+    if let Some(&n) = args.characters_count.iter().find(|&&n| n == 0) {
+        anyhow::bail!("--characters-count: {n}: a crowd needs at least one character");
+    }
+    let base = load_scenario(&common.scenario)?;
+    let progress = progress_bar(studies.len() as u64 * frames);
+    let mut by = [Vec::new(), Vec::new(), Vec::new()];
+    for study in &studies {
+        let (label, slot, scene): (String, usize, anyhow::Result<Resolved>) = match *study {
+            Study::Character(c) => (
+                format!("{name}, humanoid of {c} vertices"),
+                0,
+                variants::sized(&common.scenario, &base, c, None).map_err(Into::into),
+            ),
+            Study::Environment(e) => (
+                format!(
+                    "{name}, room of {e} vertices, humanoid of {}",
+                    args.character_size
+                ),
+                1,
+                variants::sized(&common.scenario, &base, args.character_size, Some(e))
+                    .map_err(Into::into),
+            ),
+            Study::Crowd(n) => (
+                format!("{name}, {n} humanoids of {} vertices", args.crowd_vertices),
+                2,
+                variants::crowd(&common.scenario, &base, n, args.crowd_vertices)
+                    .map_err(Into::into),
+            ),
+        };
+        progress.set_message(label.clone());
+        let mut scene = scene.with_context(|| label.clone())?;
+        common.apply(&mut scene, Some(false));
+        scene.methods = methods.clone();
+        by[slot].push(measure_with_progress(
+            scene,
+            &label,
+            frames as usize,
+            args.threads,
+            &progress,
+        )?);
+    }
+    progress.finish_and_clear();
+    let [by_character, by_environment, by_characters_count] = by;
+    let result = Scaling {
+        base_scenario: name,
+        frames,
+        by_character,
+        by_environment,
+        by_characters_count,
+    };
+    let sizes: [Column; 2] = [
+        ("character vertices", |b| b.vertices.to_string()),
+        ("room vertices", |b| b.environment_vertices.to_string()),
+    ];
+    let crowd: [Column; 3] = [
+        ("characters", |b| b.characters.to_string()),
+        ("vertices", |b| b.vertices.to_string()),
+        ("ms per character (fastest)", |b| {
+            let best = b
+                .methods
+                .iter()
+                .map(|m| m.ms_per_frame)
+                .fold(f64::INFINITY, f64::min);
+            format!("{:.3}", best / b.characters.max(1) as f64)
+        }),
+    ];
+    let mut out = format!(
+        "Median ms per frame over {} frames of {} (de-duplication {}; speed-up over parry3d in brackets)\n",
+        result.frames,
+        result.base_scenario,
+        match common.dedup_override() {
+            Some(true) => "on",
+            _ => "off",
+        }
+    );
+    if !result.by_character.is_empty() {
+        out += "\n### Against character size (the room at its own size)\n\n";
+        out += &scaling_table(&result.by_character, &methods, &sizes);
+    }
+    if !result.by_environment.is_empty() {
+        out += &format!(
+            "\n### Against environment size (humanoid of {} vertices)\n\n",
+            args.character_size
+        );
+        out += &scaling_table(&result.by_environment, &methods, &sizes);
+    }
+    if !result.by_characters_count.is_empty() {
+        out += &format!(
+            "\n### Against the number of characters (humanoids of {} vertices in lanes {} m apart)\n\n",
+            args.crowd_vertices,
+            variants::LANE_SPACING
+        );
+        out += &scaling_table(&result.by_characters_count, &methods, &crowd);
+    }
+    if let Some(path) = &common.json {
+        std::fs::write(path, serde_json::to_string(&result)?)
+            .with_context(|| format!("{}: cannot write the report", path.display()))?;
+        out += &format!("\nreport: {}\n", path.display());
+    }
+    Ok(out)
+}

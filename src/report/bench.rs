@@ -1,0 +1,111 @@
+//! What `bench` and `scaling` print: a measurement's table, and the markdown
+//! tables of the scaling studies (docs/performance.md).
+
+use std::fmt;
+
+use crate::bench::Bench;
+use crate::pipeline::Method;
+
+/// One measurement as a text table: the baseline, then every method.
+pub struct BenchTable<'a>(pub &'a Bench);
+
+impl fmt::Display for BenchTable<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let b = self.0;
+        let bodies = if b.characters == 1 && b.objects == 0 {
+            String::new()
+        } else {
+            format!(
+                "{} characters, {} moving objects, ",
+                b.characters, b.objects
+            )
+        };
+        writeln!(
+            f,
+            "{}: {bodies}{} frames, de-duplication {}, median ms per frame on {} threads \
+             (parry3d on one); every row includes posing ({:.3} ms); parry skins all {} \
+             vertices ({:.3} ms), each method only those it tests",
+            b.scenario,
+            b.frames,
+            if b.dedup { "on" } else { "off" },
+            b.threads,
+            b.pose_ms_per_frame,
+            b.vertices,
+            b.skinning_all_ms_per_frame,
+        )?;
+        writeln!(
+            f,
+            "{:<32}{:>11}{:>10}{:>12}{:>10}{:>15}{:>11}{:>10}{:>13}",
+            "",
+            "ms/frame",
+            "vs parry",
+            "1 thread ms",
+            "parallel",
+            "operations",
+            "skinned",
+            "pairs",
+            "≠ parry"
+        )?;
+        writeln!(
+            f,
+            "{:<32}{:>11.3}{:>10}{:>12}{:>10}{:>15}{:>11}{:>10}{:>13}",
+            "parry3d baseline", b.parry_ms_per_frame, "1.00×", "-", "-", "-", b.vertices, "-", "-"
+        )?;
+        for m in &b.methods {
+            writeln!(
+                f,
+                "{:<32}{:>11.3}{:>9.2}×{:>12.3}{:>9.2}×{:>15.0}{:>11.0}{:>10.0}{:>13}",
+                m.method.name(),
+                m.ms_per_frame,
+                m.speedup_vs_parry,
+                m.ms_per_frame_one_thread,
+                m.parallel_speedup,
+                m.operations_per_frame,
+                m.skinned_vertices_per_frame,
+                m.pairs_per_frame,
+                m.frames_with_other_pairs_than_parry
+            )?;
+        }
+        writeln!(
+            f,
+            "(≠ parry: frames whose pairs differ from parry3d's f32 test, which reports some \
+             pairs millimetres apart; see docs/performance.md)"
+        )
+    }
+}
+
+/// A column of a scaling table: its heading and its value for a row.
+pub type Column = (&'static str, fn(&Bench) -> String);
+
+/// Markdown rows of a scaling study: the first `key` columns, the baseline,
+/// then each method's median ms per frame with its speed-up over parry3d.
+pub fn scaling_table(rows: &[Bench], methods: &[Method], key: &[Column]) -> String {
+    let mut out = String::from("|");
+    for (name, _) in key {
+        out += &format!(" {name} |");
+    }
+    out += " parry3d |";
+    for m in methods {
+        out += &format!(" {} |", m.name());
+    }
+    out += "\n|";
+    out += &"---:|".repeat(key.len() + 1 + methods.len());
+    out += "\n";
+    for b in rows {
+        out += "|";
+        for (_, value) in key {
+            out += &format!(" {} |", value(b));
+        }
+        out += &format!(" {:.3} |", b.parry_ms_per_frame);
+        for m in &b.methods {
+            // Two significant digits below 1×, one decimal above.
+            let digits = if m.speedup_vs_parry < 1.0 { 2 } else { 1 };
+            out += &format!(
+                " {:.3} ({:.*}×) |",
+                m.ms_per_frame, digits, m.speedup_vs_parry
+            );
+        }
+        out += "\n";
+    }
+    out
+}

@@ -1,0 +1,207 @@
+//! parry3d's answer for a whole world, written the way a Rust user of parry
+//! would write it: the baseline `bench` and `scaling` time the methods
+//! against.
+//!
+//! * The room is one `parry3d::shape::TriMesh` with its BVH, built once.
+//! * Each character is a `TriMesh` built on its first pose and moved every
+//!   frame with `TriMesh::update_vertices` (which refits its BVH); every
+//!   vertex is skinned for it.
+//! * Each moving object is a `TriMesh` whose vertices are set to the object's
+//!   pose every frame (`update_vertices` from its rest positions, so poses do
+//!   not accumulate rounding).
+//! * Broad phase over the bodies: the meshes' root boxes (`local_aabb`), every
+//!   two bodies; the room meets every character.
+//! * For each body pair whose boxes overlap, `Bvh::leaf_pairs` gives the
+//!   candidate triangle pairs and parry's `f32` `intersection_test`
+//!   ([`parry_triangles_intersect`]) decides each.
+//!
+//! One thread: parry offers no parallel traversal of its own.
+
+use nalgebra::Isometry3;
+use parry3d::bounding_volume::BoundingVolume;
+use parry3d::math::Vector as PVector;
+use parry3d::partitioning::BvhNode;
+use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
+
+use super::TruthError;
+use super::parry_reference::parry_triangles_intersect;
+use super::world_truth::WorldPairs;
+use crate::character::PoseBuffers;
+use crate::geometry::Point;
+use crate::mesh::TriMesh;
+use crate::scenario::Resolved;
+use crate::world::{CharacterPair, ObjectPair, RoomPair};
+
+fn to_parry(p: &Point) -> PVector {
+    PVector::new(p.x, p.y, p.z)
+}
+
+fn parry_mesh(mesh: &TriMesh, what: &'static str) -> Result<ParryMesh, TruthError> {
+    let vertices = mesh.positions().iter().map(to_parry).collect();
+    ParryMesh::new(vertices, mesh.indices().to_vec()).map_err(|_| TruthError::NoTriangles(what))
+}
+
+/// parry's pairs of every kind for the current frame of a world.
+pub struct ParryWorld {
+    room: ParryMesh,
+    objects: Vec<ParryMesh>,
+    object_rest: Vec<Vec<Point>>,
+    character_indices: Vec<Vec<[u32; 3]>>,
+    /// Built on the first [`ParryWorld::update`].
+    characters: Vec<Option<ParryMesh>>,
+    /// This frame's pairs (parry's `f32` triangle test), sorted.
+    pub pairs: WorldPairs,
+    /// Leaf pairs the traversals yielded this frame.
+    pub candidates: u64,
+    /// Body pairs whose boxes overlapped this frame.
+    pub body_pairs: u64,
+}
+
+impl ParryWorld {
+    /// Builds the room's and the objects' meshes and BVHs.
+    pub fn new(scene: &Resolved) -> Result<Self, TruthError> {
+        Ok(Self {
+            room: parry_mesh(&scene.environment.mesh, "environment")?,
+            objects: scene
+                .objects
+                .iter()
+                .map(|o| parry_mesh(&o.mesh, "object"))
+                .collect::<Result<_, _>>()?,
+            object_rest: scene
+                .objects
+                .iter()
+                .map(|o| o.mesh.positions().to_vec())
+                .collect(),
+            character_indices: scene
+                .characters
+                .iter()
+                .map(|a| a.character.mesh.indices().to_vec())
+                .collect(),
+            characters: scene.characters.iter().map(|_| None).collect(),
+            pairs: WorldPairs::default(),
+            candidates: 0,
+            body_pairs: 0,
+        })
+    }
+
+    /// Moves every body to this frame: characters' skinned vertices
+    /// (`buffers[i].positions`, every vertex), objects to `poses`.
+    pub fn update(
+        &mut self,
+        buffers: &[PoseBuffers],
+        poses: &[Isometry3<f32>],
+    ) -> Result<(), TruthError> {
+        for ((slot, indices), b) in self
+            .characters
+            .iter_mut()
+            .zip(&self.character_indices)
+            .zip(buffers)
+        {
+            let positions = &b.positions;
+            if let Some(v) = positions
+                .iter()
+                .position(|p| !p.iter().all(|c| c.is_finite()))
+            {
+                return Err(TruthError::NonFinitePosition(v));
+            }
+            match slot {
+                Some(mesh) => mesh.update_vertices(|vs| {
+                    for (v, p) in vs.iter_mut().zip(positions) {
+                        *v = to_parry(p);
+                    }
+                }),
+                None => {
+                    let vertices = positions.iter().map(to_parry).collect();
+                    *slot = Some(
+                        ParryMesh::with_flags(vertices, indices.clone(), TriMeshFlags::DEFORMABLE)
+                            .map_err(|_| TruthError::NoTriangles("character"))?,
+                    );
+                }
+            }
+        }
+        for ((mesh, rest), pose) in self.objects.iter_mut().zip(&self.object_rest).zip(poses) {
+            mesh.update_vertices(|vs| {
+                for (v, p) in vs.iter_mut().zip(rest) {
+                    *v = to_parry(&(pose * p));
+                }
+            });
+        }
+        Ok(())
+    }
+
+    /// The colliding pairs of every kind for the last [`Self::update`], by
+    /// parry's `f32` triangle test, into [`Self::pairs`].
+    pub fn detect(&mut self) {
+        let Self {
+            room,
+            objects,
+            characters,
+            pairs,
+            candidates,
+            body_pairs,
+            ..
+        } = self;
+        pairs.environment.clear();
+        pairs.objects.clear();
+        pairs.characters.clear();
+        *candidates = 0;
+        *body_pairs = 0;
+        let overlap = |a: &BvhNode, b: &BvhNode| a.intersects(b);
+        for (i, c) in characters.iter().enumerate() {
+            let Some(c) = c else { continue };
+            let cbox = c.local_aabb();
+            *body_pairs += 1;
+            for (t, rt) in c.bvh().leaf_pairs(room.bvh(), overlap) {
+                *candidates += 1;
+                if parry_triangles_intersect(&c.triangle(t), &room.triangle(rt)) {
+                    pairs.environment.push(RoomPair {
+                        character: i as u32,
+                        triangle: t,
+                        room_triangle: rt,
+                    });
+                }
+            }
+            for (o, obj) in objects.iter().enumerate() {
+                if !cbox.intersects(&obj.local_aabb()) {
+                    continue;
+                }
+                *body_pairs += 1;
+                for (t, ot) in c.bvh().leaf_pairs(obj.bvh(), overlap) {
+                    *candidates += 1;
+                    if parry_triangles_intersect(&c.triangle(t), &obj.triangle(ot)) {
+                        pairs.objects.push(ObjectPair {
+                            character: i as u32,
+                            triangle: t,
+                            object: o as u32,
+                            object_triangle: ot,
+                        });
+                    }
+                }
+            }
+            for (j, d) in characters.iter().enumerate().skip(i + 1) {
+                let Some(d) = d else { continue };
+                if !cbox.intersects(&d.local_aabb()) {
+                    continue;
+                }
+                *body_pairs += 1;
+                for (ta, tb) in c.bvh().leaf_pairs(d.bvh(), overlap) {
+                    *candidates += 1;
+                    if parry_triangles_intersect(&c.triangle(ta), &d.triangle(tb)) {
+                        pairs.characters.push(CharacterPair {
+                            a: i as u32,
+                            triangle_a: ta,
+                            b: j as u32,
+                            triangle_b: tb,
+                        });
+                    }
+                }
+            }
+        }
+        pairs.environment.sort_unstable();
+        pairs.environment.dedup();
+        pairs.objects.sort_unstable();
+        pairs.objects.dedup();
+        pairs.characters.sort_unstable();
+        pairs.characters.dedup();
+    }
+}
