@@ -12,10 +12,11 @@ use cornertree::character::SkinningModel;
 use cornertree::pipeline::LeafTest;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::Pipeline;
-use cornertree::record::blueprint::run_blueprint;
+use cornertree::record::blueprint::{run_blueprint, world_blueprint};
 use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
-use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
+use cornertree::record::world_recorder;
+use cornertree::record::{RecordOptions, RunRecorder, SceneInfo, WorldRecorder};
 use cornertree::report::run::TruthRecord;
 use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable, WorldFrameRecord};
 use cornertree::scenario::{Resolved, open_scenario_with, scenario_name};
@@ -24,6 +25,35 @@ use cornertree::truth::{FrameTruth, MethodContext};
 use cornertree::world::World;
 
 use super::args::ScenarioArgs;
+
+/// One method's recording: of one character in a room, or of a world.
+enum Recorder {
+    One(RunRecorder),
+    World(WorldRecorder),
+}
+
+impl Recorder {
+    fn stream(&self) -> &rerun::RecordingStream {
+        match self {
+            Recorder::One(r) => r.stream(),
+            Recorder::World(r) => r.stream(),
+        }
+    }
+
+    fn finish(&self, note: &str) -> Result<(), rerun::sink::SinkFlushError> {
+        match self {
+            Recorder::One(r) => r.finish(note),
+            Recorder::World(r) => r.finish(note),
+        }
+    }
+
+    fn frames_logged(&self) -> usize {
+        match self {
+            Recorder::One(r) => r.frames_logged(),
+            Recorder::World(r) => r.frames_logged(),
+        }
+    }
+}
 
 /// What `run` and `compare` ask of the frame loop.
 pub struct PlayArgs {
@@ -54,14 +84,19 @@ fn interrupt_flag() -> Arc<AtomicBool> {
 
 fn scenario_markdown(name: &str, r: &Resolved, frames: usize, method: Method) -> String {
     let first = r.first();
-    let mut s = format!(
-        "## {name}: {}\n\n| | |\n|---|---|\n| character | {} ({} vertices, {} triangles) |\n\
-         | environment | {} ({} triangles) |\n| frames | {frames} at {} fps |\n\
+    let world = r.characters.len() > 1 || !r.objects.is_empty();
+    let mut s = format!("## {name}: {}\n\n| | |\n|---|---|\n", method.name());
+    if !world {
+        s += &format!(
+            "| character | {} ({} vertices, {} triangles) |\n",
+            first.character.name,
+            first.character.mesh.vertex_count(),
+            first.character.mesh.triangle_count(),
+        );
+    }
+    s += &format!(
+        "| environment | {} ({} triangles) |\n| frames | {frames} at {} fps |\n\
          | skinning | {:?} |\n| edge de-duplication | {} |\n| big-triangle threshold | {} m |\n",
-        method.name(),
-        first.character.name,
-        first.character.mesh.vertex_count(),
-        first.character.mesh.triangle_count(),
         r.environment.name,
         r.environment.mesh.triangle_count(),
         r.fps,
@@ -74,6 +109,24 @@ fn scenario_markdown(name: &str, r: &Resolved, frames: usize, method: Method) ->
             "| placement | gap {:.4} m from {} (closest at frame {}) |\n",
             g.achieved, g.surface, g.closest_frame
         );
+    }
+    if world {
+        s += "\n| character | source | vertices | triangles |\n|---|---|---:|---:|\n";
+        for a in &r.characters {
+            s += &format!(
+                "| {} | {} | {} | {} |\n",
+                a.name,
+                a.character.name,
+                a.character.mesh.vertex_count(),
+                a.character.mesh.triangle_count()
+            );
+        }
+        if !r.objects.is_empty() {
+            s += "\n| moving object | triangles |\n|---|---:|\n";
+            for o in &r.objects {
+                s += &format!("| {} | {} |\n", o.name, o.mesh.triangle_count());
+            }
+        }
     }
     s
 }
@@ -99,24 +152,6 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     })?;
     args.common.apply(&mut resolved, None);
     let is_world = resolved.characters.len() > 1 || !resolved.objects.is_empty();
-    let mut notes = Vec::new();
-    let target = match (is_world, target) {
-        (false, t) => t,
-        (true, RecordingTarget::None) => RecordingTarget::None,
-        (true, RecordingTarget::Default) => {
-            notes.push(
-                "recording: not written (recordings of worlds with several characters or \
-                 moving objects are not implemented yet)"
-                    .to_string(),
-            );
-            RecordingTarget::None
-        }
-        (true, _) => anyhow::bail!(
-            "{}: recordings of worlds with several characters or moving objects are not \
-             implemented yet; run with --no-record",
-            args.common.scenario.display()
-        ),
-    };
     target.check(resolved.methods.len())?;
     let frames = args.common.frames.map_or(resolved.frames(), |f| f as usize);
     resolved.frames = frames;
@@ -192,7 +227,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         spheres_every: world.scene.recording.spheres_every,
     };
     let mut created: Vec<PathBuf> = Vec::new();
-    let mut recorders: Vec<Option<RunRecorder>> = Vec::new();
+    let mut recorders: Vec<Option<Recorder>> = Vec::new();
     let methods = world.methods.len();
     {
         let World {
@@ -200,16 +235,40 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
             methods: mws,
             ..
         } = &mut world;
+        let character_paths: Vec<String> = scene
+            .characters
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                format!(
+                    "{}/{}",
+                    layout::WORLD_CHARACTERS,
+                    world_recorder::body_entity(i, &a.name)
+                )
+            })
+            .collect();
+        let object_paths: Vec<String> = scene
+            .objects
+            .iter()
+            .enumerate()
+            .map(|(i, o)| {
+                format!(
+                    "{}/{}",
+                    layout::WORLD_OBJECTS,
+                    world_recorder::body_entity(i, &o.name)
+                )
+            })
+            .collect();
         for mw in mws.iter_mut() {
             let method = mw.method;
-            let p = mw.pipeline(0);
+            let level = layout::display_level(&mw.pipeline(0).character_tree.tree);
+            let blueprint = if is_world {
+                world_blueprint(&character_paths, &object_paths, level)
+            } else {
+                run_blueprint(level)
+            };
             let opened = target
-                .open(
-                    &name,
-                    method.name(),
-                    methods,
-                    run_blueprint(layout::display_level(&p.character_tree.tree)),
-                )
+                .open(&name, method.name(), methods, blueprint)
                 .inspect_err(|_| discard(&created))?;
             let Some(o) = opened else {
                 recorders.push(None);
@@ -222,15 +281,20 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                 scenario: &name,
                 markdown: scenario_markdown(&name, scene, frames, method),
             };
-            let first = scene.first();
-            let r = RunRecorder::new(
-                o.stream,
-                record_options,
-                &info,
-                p,
-                &first.character,
-                &scene.environment.mesh,
-            )
+            let r = if is_world {
+                WorldRecorder::new(o.stream, record_options, &info, mw, scene).map(Recorder::World)
+            } else {
+                let first = scene.first();
+                RunRecorder::new(
+                    o.stream,
+                    record_options,
+                    &info,
+                    mw.pipeline(0),
+                    &first.character,
+                    &scene.environment.mesh,
+                )
+                .map(Recorder::One)
+            }
             .inspect_err(|_| discard(&created))?;
             recorders.push(Some(r));
         }
@@ -258,7 +322,12 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         if interrupted.load(Ordering::SeqCst) {
             break;
         }
-        let t = world.scene.first().time_at(k);
+        // Clip time of one character, the world's time otherwise.
+        let t = if is_world {
+            world.scene.world_time(k)
+        } else {
+            world.scene.first().time_at(k)
+        };
         // Every vertex is skinned for the ground truth, the recording and a
         // dump, when any of them is on (not part of any method's time:
         // methods skin only what they test).
@@ -291,6 +360,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                 scene,
                 methods: mws,
                 buffers,
+                object_poses,
                 ..
             } = &mut world;
             let mw = &mut mws[i];
@@ -338,20 +408,32 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
             if let Some(rec) = &mut recorders[i] {
                 // Written to disk every frame: a killed run leaves a recording
                 // of every frame before the kill.
-                let logged = rec
-                    .log_frame(k, t, p, &buffers[0], character, env, &c)
-                    .and_then(|()| match &scored {
-                        Some((mt, n)) => {
-                            rec.log_truth(mt, *n, &buffers[0].positions, character, env)
-                        }
-                        None => Ok(()),
-                    })
-                    .map_err(anyhow::Error::from)
-                    .and_then(|()| {
-                        rec.stream()
-                            .flush_blocking()
-                            .map_err(|e| anyhow::anyhow!("{e}"))
-                    });
+                let logged = match rec {
+                    Recorder::One(rec) => {
+                        let p = mw.pipeline(0);
+                        rec.log_frame(k, t, p, &buffers[0], character, env, &c)
+                            .and_then(|()| match &scored {
+                                Some((mt, n)) => {
+                                    rec.log_truth(mt, *n, &buffers[0].positions, character, env)
+                                }
+                                None => Ok(()),
+                            })
+                    }
+                    Recorder::World(rec) => rec
+                        .log_frame(k, t, mw, scene, buffers, object_poses)
+                        .and_then(|()| match &world_truth {
+                            Some(wt) => {
+                                rec.log_truth(&wt.exact, &mw.outcome, scene, buffers, object_poses)
+                            }
+                            None => Ok(()),
+                        }),
+                }
+                .map_err(anyhow::Error::from)
+                .and_then(|()| {
+                    rec.stream()
+                        .flush_blocking()
+                        .map_err(|e| anyhow::anyhow!("{e}"))
+                });
                 if let Err(e) = logged {
                     discard(&created);
                     return Err(e.context(format!("recording frame {k} of {method}")));
@@ -499,9 +581,6 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     }
     for path in &created {
         out += &format!("recording: {} ({})\n", path.display(), file_size(path));
-    }
-    for n in &notes {
-        out += &format!("{n}\n");
     }
     if matches!(target, RecordingTarget::Rerun(..)) && !recorded.is_empty() {
         out += "recording: sent to the Rerun viewer\n";

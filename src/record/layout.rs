@@ -18,6 +18,11 @@ pub const AVATAR_SPHERES: &str = "world/avatar/spheres";
 pub const COLLIDING_AVATAR: &str = "cd/colliding/avatar";
 pub const COLLIDING_ENVIRONMENT: &str = "cd/colliding/environment";
 pub const COLLIDING_SPHERES: &str = "cd/colliding/plane_sphere";
+/// Worlds: one entity per character and per object under these.
+pub const WORLD_CHARACTERS: &str = "world/characters";
+pub const WORLD_OBJECTS: &str = "world/objects";
+/// Worlds: colliding triangles, `cd/colliding/<kind>/{bodies,room}`.
+pub const COLLIDING: &str = "cd/colliding";
 pub const FALSE_POSITIVE: &str = "cd/false_positive";
 pub const FALSE_NEGATIVE: &str = "cd/false_negative";
 /// Precision and recall against the ground truth, per frame.
@@ -48,6 +53,35 @@ pub const COUNTER_PATHS: [&str; 7] = [
     "stats/skinned_vertices",
     "stats/pairs",
 ];
+/// Worlds: the counters logged per pair kind, as `stats/<counter>/<kind>`
+/// (one time series view per counter shows the three kinds).
+pub const KIND_COUNTERS: [&str; 5] = [
+    "sphere_sphere",
+    "tri_tri",
+    "plane_sphere",
+    "operations",
+    "pairs",
+];
+
+/// `stats/<counter>/<kind>`.
+pub fn kind_counter_path(kind: crate::world::PairKind, counter: &str) -> String {
+    format!("{STATS}/{counter}/{}", kind.name())
+}
+
+/// `stats/accuracy/<kind>/<precision|recall>`.
+pub fn kind_accuracy_path(kind: crate::world::PairKind, what: &str) -> String {
+    format!("{STATS}/accuracy/{}/{what}", kind.name())
+}
+
+/// Worlds: totals of a frame.
+pub const WORLD_TOTAL_PATHS: [&str; 5] = [
+    "stats/total/operations",
+    "stats/total/refits",
+    "stats/total/skinned_vertices",
+    "stats/total/body_pairs",
+    "stats/total/wall_ms",
+];
+
 /// Time per stage, milliseconds.
 pub const TIME_PATHS: [&str; 6] = [
     "stats/time_ms/pose",
@@ -66,6 +100,11 @@ pub const AVATAR_COLOR: Rgba = [110, 160, 220, 255];
 pub const SKELETON_COLOR: Rgba = [240, 240, 90, 255];
 pub const HIT_AVATAR_COLOR: Rgba = [230, 40, 40, 255];
 pub const HIT_ENV_COLOR: Rgba = [255, 150, 20, 255];
+/// Worlds: moving objects, and the colliding triangles of the two pair kinds
+/// beside the room's ([`HIT_ENV_COLOR`]).
+pub const OBJECT_COLOR: Rgba = [200, 170, 120, 200];
+pub const HIT_OBJECT_COLOR: Rgba = [120, 220, 40, 255];
+pub const HIT_CHARACTER_COLOR: Rgba = [150, 90, 255, 255];
 pub const SUBDIVISION_COLOR: Rgba = [40, 200, 120, 255];
 pub const FALSE_POSITIVE_COLOR: Rgba = [255, 0, 255, 255];
 pub const FALSE_NEGATIVE_COLOR: Rgba = [0, 230, 255, 255];

@@ -5,6 +5,7 @@
 //! | [`layout`] | entity paths, colours, the per-level split of a tree |
 //! | [`blueprint`] | the layout a recording opens on |
 //! | [`run_recorder`] | the scene once, then every frame of one method |
+//! | [`world_recorder`] | the scene once, then every frame of one method playing a world |
 //! | [`figures`] | the paper's Figures 1–3 as recordings |
 //! | [`target`] | where recordings go (files, a viewer) |
 //!
@@ -16,5 +17,7 @@ pub mod figures;
 pub mod layout;
 pub mod run_recorder;
 pub mod target;
+pub mod world_recorder;
 
 pub use run_recorder::{RecordOptions, RunRecorder, SceneInfo};
+pub use world_recorder::WorldRecorder;

@@ -106,6 +106,9 @@ impl RunRecorder {
             }
         }
 
+        // Y up, on the views' origin (`/`: its camera and grid follow it) and
+        // on `world`.
+        rec.log_static("/", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
         rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
         rec.log_static(
             layout::ENV_MESH,
@@ -548,7 +551,7 @@ fn frame_report(method: &str, k: usize, t: f32, c: &FrameCounters) -> String {
 }
 
 /// Spheres grouped per level (`keep` filters by node index).
-fn spheres_by_level(
+pub(crate) fn spheres_by_level(
     spheres: impl Iterator<Item = Sphere>,
     level_of: &[u8],
     levels: usize,
