@@ -50,7 +50,7 @@ pub struct World {
     pub pose_ms: f64,
     /// The next frame to play.
     next: usize,
-    pool: rayon::ThreadPool,
+    pool: Arc<rayon::ThreadPool>,
     /// One thread, for [`World::detect_method_on_one_thread`].
     serial: rayon::ThreadPool,
     threads: usize,
@@ -100,9 +100,11 @@ impl World {
     /// Builds every method's hierarchies for the scene, on `threads` threads
     /// (0: one per core).
     pub fn new(scene: Resolved, threads: usize) -> Result<Self, rayon::ThreadPoolBuildError> {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()?;
+        let pool = Arc::new(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?,
+        );
         let threads = pool.current_num_threads();
         let serial = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
         let dedups: Vec<EdgeDedup> = scene
@@ -147,11 +149,23 @@ impl World {
         self.threads
     }
 
+    /// Runs `f` on one of the world's threads, so that the frames it plays
+    /// hand no job over to the pool: each [`World::step`] from outside the
+    /// pool queues one, and rayon's queue allocates a block every few dozen
+    /// jobs; inside, a frame allocates nothing once its buffers are sized
+    /// (`tests/no_alloc.rs`).
+    pub fn in_pool<R: Send>(&mut self, f: impl FnOnce(&mut World) -> R + Send) -> R {
+        let pool = self.pool.clone();
+        pool.install(|| f(self))
+    }
+
     /// Runs later frames on `threads` threads (0: one per core).
     pub fn set_threads(&mut self, threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
-        self.pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()?;
+        self.pool = Arc::new(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()?,
+        );
         self.threads = self.pool.current_num_threads();
         Ok(())
     }
@@ -235,8 +249,14 @@ impl World {
             ..
         } = self;
         let mw = &mut methods[m];
-        let pool = if one_thread { serial } else { pool };
-        pool.install(|| mw.detect(scene, buffers, object_poses));
+        let pool: &rayon::ThreadPool = if one_thread { serial } else { pool };
+        // Inside the pool already (see [`World::in_pool`]): no job to hand
+        // over to it.
+        if pool.current_thread_index().is_some() {
+            mw.detect(scene, buffers, object_poses);
+        } else {
+            pool.install(|| mw.detect(scene, buffers, object_poses));
+        }
         mw.outcome.total.time.pose_ms = *pose_ms;
     }
 
