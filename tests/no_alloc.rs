@@ -3,35 +3,17 @@
 //! the narrow phase reuse their buffers (counted with a global allocator that
 //! counts).
 
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 
 use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::Pipeline;
 use cornertree::scenario::open_scenario;
 
-struct Counting;
-
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::ALLOCATIONS;
 
 #[test]
 fn frames_after_the_first_allocate_nothing() {
@@ -66,58 +48,4 @@ fn frames_after_the_first_allocate_nothing() {
         per_frame[1..].iter().all(|&n| n == 0),
         "allocations per frame: {per_frame:?}"
     );
-}
-
-/// A world's frames through [`cornertree::world::World`] on `threads`
-/// threads, the loop inside the world's pool: once to size every buffer (pair lists grow to the most pairs a
-/// frame has), then the same frames again, which must allocate nothing (the
-/// rayon pool's job queues included). Returns the allocations of each frame
-/// of both passes.
-fn world_allocations(scenario: &str, frames: usize, threads: usize) -> (Vec<u64>, Vec<u64>) {
-    use cornertree::world::World;
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scenario);
-    let mut r = open_scenario(&path).unwrap();
-    r.frames = frames;
-    r.dedup = false;
-    let mut world = World::new(r, threads).unwrap();
-    let pass = |world: &mut World| {
-        world.seek(0);
-        let mut per_frame = Vec::with_capacity(frames);
-        loop {
-            let before = ALLOCATIONS.load(Ordering::Relaxed);
-            if world.step().is_none() {
-                break;
-            }
-            per_frame.push(ALLOCATIONS.load(Ordering::Relaxed) - before);
-        }
-        per_frame
-    };
-    // The frame loop on one of the world's threads (`World::in_pool`).
-    world.in_pool(|w| {
-        let first = pass(w);
-        let second = pass(w);
-        (first, second)
-    })
-}
-
-#[test]
-fn world_frames_allocate_nothing_once_buffers_are_sized() {
-    for (scenario, frames) in [
-        ("scenarios/crowd.toml", 10),
-        ("scenarios/door.toml", 20),
-        ("scenarios/handshake.toml", 10),
-    ] {
-        for threads in [1, 2] {
-            let (first, second) = world_allocations(scenario, frames, threads);
-            assert!(
-                first[0] > 0,
-                "{scenario}: the first frame sizes the buffers"
-            );
-            assert!(
-                second.iter().all(|&n| n == 0),
-                "{scenario}, {threads} threads: allocations per frame on the replay: \
-                 {second:?} (first pass {first:?})"
-            );
-        }
-    }
 }
