@@ -23,14 +23,16 @@ pub struct ScalingArgs {
     /// per configuration: --frames, default 16.
     #[command(flatten)]
     pub common: ScenarioArgs,
-    /// Character sizes (vertices, comma-separated) played in the base room;
-    /// empty (`--characters=`) skips the study.
-    #[arg(long, value_delimiter = ',', default_values_t = CHARACTER_VERTICES)]
-    pub characters: Vec<usize>,
+    /// Character sizes (vertices, comma-separated) played in the base room.
+    /// Default: 3000,10000,44345,100000, unless --characters-count is given
+    /// (then this study runs only when asked).
+    #[arg(long, value_delimiter = ',')]
+    pub characters: Option<Vec<usize>>,
     /// Room sizes (vertices, comma-separated) with the character of
-    /// --character-size; empty skips the study.
-    #[arg(long, value_delimiter = ',', default_values_t = ENVIRONMENT_VERTICES)]
-    pub environments: Vec<usize>,
+    /// --character-size. Default: 10000,133139,500000, unless
+    /// --characters-count is given.
+    #[arg(long, value_delimiter = ',')]
+    pub environments: Option<Vec<usize>>,
     /// Character size (vertices) of the room study.
     #[arg(long, default_value_t = 44_345)]
     pub character_size: usize,
@@ -67,11 +69,25 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
     let methods = common.methods_or_all();
     let name = scenario_name(&common.scenario);
     let frames = common.frames.unwrap_or(16);
-    let studies: Vec<Study> = args
-        .characters
+    let crowd_only = !args.characters_count.is_empty();
+    let characters = args.characters.clone().unwrap_or_else(|| {
+        if crowd_only {
+            Vec::new()
+        } else {
+            CHARACTER_VERTICES.to_vec()
+        }
+    });
+    let environments = args.environments.clone().unwrap_or_else(|| {
+        if crowd_only {
+            Vec::new()
+        } else {
+            ENVIRONMENT_VERTICES.to_vec()
+        }
+    });
+    let studies: Vec<Study> = characters
         .iter()
         .map(|&c| Study::Character(c))
-        .chain(args.environments.iter().map(|&e| Study::Environment(e)))
+        .chain(environments.iter().map(|&e| Study::Environment(e)))
         .chain(args.characters_count.iter().map(|&n| Study::Crowd(n)))
         .collect();
     if let Some(&n) = args.characters_count.iter().find(|&&n| n == 0) {
