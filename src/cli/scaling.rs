@@ -178,7 +178,7 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
     }
     if !result.by_characters_count.is_empty() {
         out += &format!(
-            "\n### Against the number of characters (humanoids of {} vertices in lanes {} m apart)\n\n",
+            "\n### Against the number of characters (humanoids of {} vertices walking in free lanes {} m apart)\n\n",
             args.crowd_vertices,
             variants::LANE_SPACING
         );
