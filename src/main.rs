@@ -3,6 +3,7 @@
 use std::process::ExitCode;
 
 mod bench_cmd;
+mod ccd_queries_cmd;
 mod kernels_cmd;
 mod run_cmd;
 mod scaling_cmd;
@@ -79,6 +80,18 @@ enum Command {
     /// maximum tests and operations per frame and the largest corner-tree
     /// leaf a character leaf met, beside the paper's figures.
     PlaneSphereStudy(study_cmd::StudyArgs),
+    /// Continuous collision detection on query files with exact answers
+    /// (the format of ../shared/ccd-queries: a vertex and a triangle, or two
+    /// edges, every point moving on a straight line over one step): runs the
+    /// conservative vertex-face and edge-edge kernels on every query and
+    /// prints, per file, per kind and in total, the queries, the positives
+    /// (exact answer "contact"), false negatives (contacts missed: there
+    /// should be none), false positives (contact answered, none exact) and
+    /// nanoseconds per query (release builds only). Each PATH is a CSV file
+    /// or a directory walked for *.csv; a file's kind is its parent folder's
+    /// name unless --kind is given. A malformed file stops with one line
+    /// naming the file and row.
+    CcdQueries(ccd_queries_cmd::CcdQueriesArgs),
 }
 
 #[derive(clap::Args)]
@@ -437,6 +450,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => run_cmd::compare(args).and_then(|out| emit(&out)),
         Command::Kernels(args) => kernels_cmd::kernels(args).and_then(|out| emit(&out)),
         Command::PlaneSphereStudy(args) => study_cmd::study(args).and_then(|out| emit(&out)),
+        Command::CcdQueries(args) => ccd_queries_cmd::ccd_queries(args).and_then(|out| emit(&out)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

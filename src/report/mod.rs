@@ -2,6 +2,7 @@
 //!
 //! | file | what |
 //! |---|---|
+//! | [`ccd_queries`] | CCD kernels against query files with exact answers: misses, false positives, time (`cornertree ccd-queries`) |
 //! | [`animate`] | clip playback: refit containment, tightness, per-frame costs |
 //! | [`kernels`] | operations charged and paid per kernel, time per test (`cornertree kernels`) |
 //! | [`kernel_inputs`] | the seeded mixed inputs of `cornertree kernels` |
@@ -12,6 +13,7 @@
 //! | [`tables`] | Table 1 and the environment hierarchies per method |
 
 pub mod animate;
+pub mod ccd_queries;
 pub mod inspect;
 pub mod kernel_inputs;
 pub mod kernels;
