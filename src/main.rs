@@ -68,8 +68,10 @@ enum Command {
     /// near-touching and intersecting inputs: the operations the paper
     /// charges, the operations really executed (arithmetic and comparisons,
     /// counted by a counting number type: mean, min, max) and nanoseconds per
-    /// test. Timings are only meaningful in a release build
-    /// (`cargo run --release -- kernels`).
+    /// test. Then the continuous tests (vertex-face, edge-edge,
+    /// triangle-triangle over a step of linear motion; docs/ccd.md) on up to
+    /// 5,000 moving pairs, which the paper charges nothing. Timings are only
+    /// meaningful in a release build (`cargo run --release -- kernels`).
     Kernels(kernels_cmd::KernelsArgs),
     /// The experiment behind docs/results.md: when does the plane-sphere
     /// method read as §5 writes it (Algorithm 1 where a character leaf meets

@@ -53,6 +53,7 @@ pub fn edge_edge_as<T: Binary64>(
         Domain::Square,
         Seek::EarliestBefore(before),
         params.max_boxes,
+        params.time_tolerance,
     )
 }
 

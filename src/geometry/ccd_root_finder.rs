@@ -18,20 +18,26 @@
 //! over the box (the inclusion function). The search subdivides boxes,
 //! depth first, earliest times first:
 //! * a box whose enclosure misses 0 in some coordinate holds no contact
-//!   (certain, whatever the rounding: `ε` bounds it);
+//!   (certain, whatever the rounding: `ε` bounds it). Our addition: the
+//!   same test along the normal `e₁ × e₂` at either end of the step (the
+//!   triangle's, or the two edges' common one): `d · F` is linear in each
+//!   parameter too, so its corner values enclose it, and a near miss along
+//!   a slanted normal is rejected at once instead of by boxes of the size
+//!   of the gap;
 //! * a box whose enclosure lies within `±δ` in every coordinate (δ, the
 //!   caller's tolerance) is accepted: every point of it brings the
 //!   primitives within `δ` of each other in every coordinate. Its lowest
-//!   time becomes the best answer, and boxes starting no earlier are
-//!   skipped from then on;
+//!   time becomes the best answer, and from then on boxes starting after
+//!   `best − τ` (τ, the time tolerance) are skipped, and a box reaching
+//!   past that is split in time first;
 //! * any other box is split in two along the parameter that changes `F` the
 //!   most across it.
 //!
 //! Conservative: a box holding a contact is never rejected, so "no contact"
-//! is certain, and the returned time is a lower bound of the first contact
-//! (every box left unexamined starts no earlier). The search examines at
-//! most [`CcdParams::max_boxes`] boxes and splits a parameter at most
-//! [`MAX_LEVEL`] times; past either limit it answers "contact"
+//! is certain, and the returned time (the least start of the accepted and
+//! skipped boxes) is a lower bound of the first contact. The search
+//! examines at most [`CcdParams::max_boxes`] boxes and splits a parameter
+//! at most [`MAX_LEVEL`] times; past either limit it answers "contact"
 //! conservatively, its witness then certified only to the looser
 //! [`Impact::within`] it reached.
 //!
@@ -40,7 +46,8 @@
 //! evaluation (7 roundings deep, `|F|`'s magnitudes summing to at most
 //! `18 M`: `C ≥ 18 γ₇`) plus the inputs' own rounding error
 //! ([`CcdParams::input_error`], relative to each coordinate, times the sum
-//! of the weights' magnitudes in `F`). Parameters are dyadic (`k / 2ˡ`,
+//! of the weights' magnitudes in `F`); along a normal `d`,
+//! `Σₐ |dₐ| (εₐ + 18 γ₃ Mₐ)`. Parameters are dyadic (`k / 2ˡ`,
 //! `l ≤ 52`), so every corner is exact.
 //!
 //! Generic over [`Binary64`] (`f64`, and `Counted` to count operations):
@@ -50,7 +57,7 @@
 
 use super::counted::Counted;
 use super::scalar::Scalar;
-use super::vec3::V3;
+use super::vec3::{V3, cross, dot};
 
 /// Scalars whose arithmetic is IEEE binary64 rounded to nearest, which the
 /// error bound assumes: `f64`, and [`Counted`] (an `f64` that counts).
@@ -67,6 +74,10 @@ const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
 /// roundings of `ε` itself (`docs/ccd.md`).
 const EVALUATION_ERROR: f64 = 1.4e-14;
 
+/// Rounding of a direction's component `d · F̃` at a corner, relative to
+/// `Σₐ |dₐ| Mₐ`: at least `18 γ₃ (1 + γ₇)` (5.995e-15; `docs/ccd.md`).
+const DIRECTION_ERROR: f64 = 6.1e-15;
+
 /// Relative error of `fl(fl(n) / fl(d))`, an exact rational `n / d`
 /// converted to `f64` (three roundings: `(1 + u)² / (1 − u) − 1 < 3.001 u`).
 pub const RATIONAL_ROUNDING: f64 = 3.001 * UNIT_ROUNDOFF;
@@ -77,6 +88,9 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
 /// Default budget of boxes per query.
 pub const DEFAULT_MAX_BOXES: u32 = 1 << 16;
+
+/// Default time tolerance τ (fraction of the step).
+pub const DEFAULT_TIME_TOLERANCE: f64 = 1e-6;
 
 /// Most halvings of one parameter (its intervals stay exact `f64` dyadics).
 pub const MAX_LEVEL: u8 = 52;
@@ -102,6 +116,10 @@ pub struct CcdParams {
     /// Boxes examined at most; past it the answer is "contact", its
     /// witness certified only to [`Impact::within`].
     pub max_boxes: u32,
+    /// τ: once a contact is accepted, boxes starting less than τ before it
+    /// are not examined, so the time of impact may be up to τ below the
+    /// earliest accepted box (it stays a lower bound of the first contact).
+    pub time_tolerance: f64,
 }
 
 impl Default for CcdParams {
@@ -110,6 +128,7 @@ impl Default for CcdParams {
             tolerance: DEFAULT_TOLERANCE,
             input_error: 0.0,
             max_boxes: DEFAULT_MAX_BOXES,
+            time_tolerance: DEFAULT_TIME_TOLERANCE,
         }
     }
 }
@@ -207,8 +226,8 @@ pub struct Impact {
     /// (raised) tolerance when the search accepted a box.
     pub within: f64,
     /// Whether the search ended within its limits: then [`Impact::toi`]
-    /// is the lowest time of the accepted boxes and [`Impact::within`] at
-    /// most the (raised) tolerance. Otherwise it stopped at
+    /// is at most [`CcdParams::time_tolerance`] below the earliest
+    /// accepted box and [`Impact::within`] at most the (raised) tolerance. Otherwise it stopped at
     /// [`CcdParams::max_boxes`] or [`MAX_LEVEL`] and answered
     /// conservatively.
     pub resolved: bool,
@@ -255,6 +274,17 @@ impl<T: Binary64> ContactFunction<T> {
         }
     }
 
+    /// `e₁ × e₂` at `t = 0` and `t = 1`: the triangle's normal
+    /// (vertex–face) or the edges' common normal (edge–edge) at either end
+    /// of the step, the directions in which `F` is tested besides the axes.
+    fn normals(&self) -> [V3<T>; 2] {
+        let at_end = |x: &[V3<T>; 2]| -> V3<T> { std::array::from_fn(|a| x[0][a] + x[1][a]) };
+        [
+            cross(&self.e1[0], &self.e2[0]),
+            cross(&at_end(&self.e1), &at_end(&self.e2)),
+        ]
+    }
+
     /// `F` at the 8 corners of a box, corner `4·it + 2·iu + iv`.
     #[inline]
     #[allow(clippy::needless_range_loop)]
@@ -284,6 +314,8 @@ pub(super) struct Bounds<T> {
     pub(super) eps: V3<T>,
     /// Corner values within `±accept` (all coordinates) accept a box.
     accept: V3<T>,
+    /// The largest input magnitude per coordinate.
+    m: V3<T>,
 }
 
 impl<T: Binary64> Bounds<T> {
@@ -308,7 +340,7 @@ impl<T: Binary64> Bounds<T> {
             let d = delta.max_of(raise * eps[a]);
             accept[a] = d * shrink - two * eps[a];
         }
-        Self { eps, accept }
+        Self { eps, accept, m: *m }
     }
 }
 
@@ -344,15 +376,22 @@ pub(super) fn find_root<T: Binary64>(
     domain: Domain,
     seek: Seek,
     max_boxes: u32,
+    time_tolerance: f64,
 ) -> Option<Impact> {
     let before = match seek {
         Seek::EarliestBefore(b) => b,
         Seek::Any => 1.0,
     };
     let max_boxes = max_boxes.max(1);
+    let tau = T::from_f64(time_tolerance);
+    let directions = Directions::new(f, bounds);
     let mut stack = [ParamBox::UNIT; STACK];
     let mut len = 1;
     let mut best = T::from_f64(before);
+    // Boxes start no earlier than this, or are skipped (`best − τ` once a
+    // box is accepted), and the least start of those skipped below `best`.
+    let mut cutoff = best;
+    let mut skipped = best;
     // The latest (so earliest in time) accepted box, and the last box
     // neither rejected nor accepted, each with its corner extremes.
     let mut accepted: Option<(ParamBox, V3<T>, V3<T>)> = None;
@@ -363,7 +402,13 @@ pub(super) fn find_root<T: Binary64>(
         len -= 1;
         let b = stack[len];
         let t_lo = T::from_f64(b.t.lo());
-        if t_lo >= best || (domain == Domain::Triangle && !b.reaches_triangle()) {
+        if t_lo >= cutoff {
+            if t_lo < skipped {
+                skipped = t_lo;
+            }
+            continue;
+        }
+        if domain == Domain::Triangle && !b.reaches_triangle() {
             continue;
         }
         if boxes == max_boxes {
@@ -389,12 +434,13 @@ pub(super) fn find_root<T: Binary64>(
             }
         }
         let eps = &bounds.eps;
-        if (0..3).any(|a| lo[a] > eps[a] || hi[a] < -eps[a]) {
+        if (0..3).any(|a| lo[a] > eps[a] || hi[a] < -eps[a]) || directions.exclude_zero(&c) {
             continue;
         }
         let acc = &bounds.accept;
         if (0..3).all(|a| hi[a] <= acc[a] && lo[a] >= -acc[a]) {
             best = t_lo;
+            cutoff = best - tau;
             accepted = Some((b, lo, hi));
             if seek == Seek::Any {
                 break;
@@ -402,7 +448,17 @@ pub(super) fn find_root<T: Binary64>(
             continue;
         }
         open = Some((b, lo, hi));
-        match split_dimension(&c, &dims) {
+        // Once a contact is accepted only earlier starts matter: a box
+        // reaching past the best time is split in time, so that its part
+        // after `best − τ` is skipped (a box wholly earlier is split as any).
+        let refine_time =
+            accepted.is_some() && dims[0].level < MAX_LEVEL && T::from_f64(dims[0].hi()) > cutoff;
+        let split = if refine_time {
+            Some(0)
+        } else {
+            split_dimension(&c, &dims)
+        };
+        match split {
             Some(d) => {
                 let [first, second] = dims[d].halves();
                 // Later times pushed first: the earlier half is examined first.
@@ -413,6 +469,7 @@ pub(super) fn find_root<T: Binary64>(
             None => {
                 // Every parameter at its finest: contact, unresolved.
                 best = t_lo;
+                cutoff = best;
                 limited = true;
             }
         }
@@ -420,6 +477,7 @@ pub(super) fn find_root<T: Binary64>(
     if best >= T::from_f64(before) {
         return None;
     }
+    let best = best.min_of(skipped);
     // A positive answer has examined a box not rejected.
     let (witness, lo, hi) = accepted.or(open)?;
     Some(Impact {
@@ -429,6 +487,42 @@ pub(super) fn find_root<T: Binary64>(
         resolved: !limited,
         boxes,
     })
+}
+
+/// The directions besides the axes in which the search tests `F`
+/// ([`ContactFunction::normals`]) with their rounding bounds: `d · F` is
+/// also linear in each parameter, so its corner values enclose it too.
+struct Directions<T> {
+    d: [V3<T>; 2],
+    /// Bounds `|fl(d · F̃) − d · F|` at any corner (true inputs).
+    eta: [T; 2],
+}
+
+impl<T: Binary64> Directions<T> {
+    fn new(f: &ContactFunction<T>, bounds: &Bounds<T>) -> Self {
+        let d = f.normals();
+        let c = T::from_f64(DIRECTION_ERROR);
+        // Room for the few roundings of η itself.
+        let up = T::from_f64(1.0 + 1e-12);
+        let per_axis: V3<T> = std::array::from_fn(|a| bounds.eps[a] + c * bounds.m[a]);
+        let eta = d.map(|d| dot(&d.map(T::abs), &per_axis) * up);
+        Self { d, eta }
+    }
+
+    /// Whether `d · F` keeps one strict sign over the corners `c` (beyond
+    /// its rounding bound) for one of the directions: no zero in the box.
+    fn exclude_zero(&self, c: &[V3<T>; 8]) -> bool {
+        self.d.iter().zip(&self.eta).any(|(d, &eta)| {
+            let first = dot(d, &c[0]);
+            let (mut lo, mut hi) = (first, first);
+            for corner in &c[1..] {
+                let g = dot(d, corner);
+                lo = lo.min_of(g);
+                hi = hi.max_of(g);
+            }
+            lo > eta || hi < -eta
+        })
+    }
 }
 
 /// Bound on every coordinate of `F` over a box not rejected (so enclosing

@@ -59,7 +59,14 @@ pub(super) fn search<T: Binary64>(
         return None;
     }
     let f = ContactFunction::new(start, end, (0, 1), (1, 2), (1, 3));
-    find_root(&f, &bounds, Domain::Triangle, seek, params.max_boxes)
+    find_root(
+        &f,
+        &bounds,
+        Domain::Triangle,
+        seek,
+        params.max_boxes,
+        params.time_tolerance,
+    )
 }
 
 #[cfg(test)]

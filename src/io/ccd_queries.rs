@@ -86,10 +86,10 @@ impl CcdQuery {
 /// What can be wrong with query files, with the file and row.
 #[derive(Debug, thiserror::Error)]
 pub enum CcdQueryError {
-    #[error("{path}: {source}")]
+    #[error("{path}: {cause}")]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     #[error("{path}: row {row}: expected 7 comma-separated integers, found {found} field(s)")]
     Columns {
@@ -147,9 +147,9 @@ pub enum CcdQueryError {
 
 /// Reads and parses one query file.
 pub fn read_queries(path: &Path) -> Result<Vec<CcdQuery>, CcdQueryError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CcdQueryError::Io {
+    let text = std::fs::read_to_string(path).map_err(|cause| CcdQueryError::Io {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     parse_queries(&text, path)
 }
@@ -260,9 +260,9 @@ pub fn find_query_files(
 ) -> Result<Vec<(PathBuf, QueryKind)>, CcdQueryError> {
     let mut out = Vec::new();
     for path in paths {
-        let meta = std::fs::metadata(path).map_err(|source| CcdQueryError::Io {
+        let meta = std::fs::metadata(path).map_err(|cause| CcdQueryError::Io {
             path: path.clone(),
-            source,
+            cause,
         })?;
         let files = if meta.is_dir() {
             let mut files = Vec::new();
@@ -301,9 +301,9 @@ fn kind_of(file: &Path) -> Result<QueryKind, CcdQueryError> {
 
 /// Every `*.csv` file under `dir`.
 fn walk_csv(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), CcdQueryError> {
-    let io = |source| CcdQueryError::Io {
+    let io = |cause| CcdQueryError::Io {
         path: dir.to_owned(),
-        source,
+        cause,
     };
     for entry in std::fs::read_dir(dir).map_err(io)? {
         let path = entry.map_err(io)?.path();
