@@ -4,6 +4,8 @@
 
 use std::path::PathBuf;
 
+use anyhow::Context;
+
 use cornertree::geometry::ccd_root_finder::DEFAULT_TOLERANCE;
 use cornertree::io::ccd_queries::{QueryKind, find_query_files, read_queries};
 use cornertree::report::ccd_queries::{QueryFile, evaluate};
@@ -14,12 +16,13 @@ pub struct CcdQueriesArgs {
     /// ../shared/ccd-queries).
     #[arg(required = true)]
     pub paths: Vec<PathBuf>,
-    /// Print `{"tolerance", "files": [{path, kind, queries, positives,
-    /// false_negatives, false_positives, unresolved, false_positive_within,
-    /// ns_per_query}, ...], "kinds": [...], "total": {...}}` on stdout
-    /// instead of the table.
-    #[arg(long)]
-    pub json: bool,
+    /// The report as JSON: `{"tolerance", "files": [{path, kind, queries,
+    /// positives, false_negatives, false_positives, unresolved,
+    /// false_positive_within, ns_per_query}, ...], "kinds": [...], "total":
+    /// {...}}`. Written to FILE (the table still printed), or, without FILE,
+    /// printed on stdout instead of the table. Put it after the PATHs.
+    #[arg(long, value_name = "FILE", num_args = 0..=1)]
+    pub json: Option<Option<PathBuf>>,
     /// Query kind of every file (default: the name of each file's parent
     /// folder, vertex-face or edge-edge).
     #[arg(long, value_parser = parse_kind)]
@@ -53,9 +56,13 @@ pub fn ccd_queries(args: CcdQueriesArgs) -> anyhow::Result<String> {
         });
     }
     let report = evaluate(&files, args.tolerance);
-    if args.json {
-        Ok(serde_json::to_string(&report)? + "\n")
-    } else {
-        Ok(report.to_string())
+    match &args.json {
+        Some(None) => Ok(serde_json::to_string(&report)? + "\n"),
+        Some(Some(path)) => {
+            std::fs::write(path, serde_json::to_string(&report)? + "\n")
+                .with_context(|| format!("{}: cannot write the report", path.display()))?;
+            Ok(report.to_string())
+        }
+        None => Ok(report.to_string()),
     }
 }

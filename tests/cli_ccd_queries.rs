@@ -109,13 +109,19 @@ fn json_per_file_and_total() {
     assert_eq!(v["total"]["false_positives"], 1, "{v}");
     assert_eq!(v["total"]["false_negatives"], 1, "{v}");
 
-    // The text table.
-    let o = ccd_queries(&[dir.join("set").to_str().unwrap()]);
+    // The text table; with `--json FILE` the same report goes to FILE.
+    let report = dir.join("R");
+    let set = dir.join("set");
+    let o = ccd_queries(&[set.to_str().unwrap(), "--json", report.to_str().unwrap()]);
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(
         o.status.success() && text.contains("vertex-face") && text.contains("total"),
         "{text}"
     );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(v["total"]["queries"], 3, "{v}");
+    assert_eq!(v["files"].as_array().unwrap().len(), 2, "{v}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
