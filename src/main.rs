@@ -57,8 +57,10 @@ enum Command {
     /// near-touching and intersecting inputs: the operations the paper
     /// charges, the operations really executed (arithmetic and comparisons,
     /// counted by a counting number type: mean, min, max) and nanoseconds per
-    /// test. Timings are only meaningful in a release build
-    /// (`cargo run --release -- kernels`).
+    /// test. Then the continuous tests (vertex-face, edge-edge,
+    /// triangle-triangle over a step of linear motion; docs/ccd.md) on up to
+    /// 5,000 moving pairs, which the paper charges nothing. Timings are only
+    /// meaningful in a release build (`cargo run --release -- kernels`).
     Kernels(cli::kernels::KernelsArgs),
     /// The experiment behind docs/results.md: when does the plane-sphere
     /// method read as §5 writes it (Algorithm 1 where a character leaf meets
@@ -69,6 +71,18 @@ enum Command {
     /// maximum tests and operations per frame and the largest corner-tree
     /// leaf a character leaf met, beside the paper's figures.
     PlaneSphereStudy(cli::study::StudyArgs),
+    /// Continuous collision detection on query files with exact answers
+    /// (the format of ../shared/ccd-queries: a vertex and a triangle, or two
+    /// edges, every point moving on a straight line over one step): runs the
+    /// conservative vertex-face and edge-edge kernels on every query and
+    /// prints, per file, per kind and in total, the queries, the positives
+    /// (exact answer "contact"), false negatives (contacts missed: there
+    /// should be none), false positives (contact answered, none exact) and
+    /// nanoseconds per query (release builds only). Each PATH is a CSV file
+    /// or a directory walked for *.csv; a file's kind is its parent folder's
+    /// name unless --kind is given. A malformed file stops with one line
+    /// naming the file and row.
+    CcdQueries(cli::ccd_queries::CcdQueriesArgs),
 }
 
 fn main() -> ExitCode {
@@ -104,6 +118,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => cli::compare::compare(args).and_then(|out| emit(&out)),
         Command::Kernels(args) => cli::kernels::kernels(args).and_then(|out| emit(&out)),
         Command::PlaneSphereStudy(args) => cli::study::study(args).and_then(|out| emit(&out)),
+        Command::CcdQueries(args) => cli::ccd_queries::ccd_queries(args).and_then(|out| emit(&out)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -25,13 +25,19 @@ fn json_lists_every_kernel_charged_and_paid() {
         ("tri-tri-tropp", ops::TRI_TRI),
         ("tri-tri-edge-crossing", ops::TRI_TRI),
     ];
-    assert_eq!(list.len(), charged.len());
-    for (name, c) in charged {
+    let continuous = ["ccd-vertex-face", "ccd-edge-edge", "ccd-tri-tri"];
+    assert_eq!(list.len(), charged.len() + continuous.len());
+    let named = charged
+        .iter()
+        .map(|&(name, c)| (name, Some(c)))
+        .chain(continuous.iter().map(|&name| (name, None)));
+    for (name, c) in named {
         let k = list
             .iter()
             .find(|k| k["name"] == name)
             .unwrap_or_else(|| panic!("{name} missing: {v}"));
-        assert_eq!(k["charged_operations"].as_u64(), Some(c), "{k}");
+        assert_eq!(k["charged_operations"].as_u64(), c, "{k}");
+        assert_eq!(k["inputs"], 300, "{k}");
         let mean = k["paid_operations_mean"].as_f64().unwrap();
         let min = k["paid_operations_min"].as_u64().unwrap() as f64;
         let max = k["paid_operations_max"].as_u64().unwrap() as f64;
@@ -42,8 +48,11 @@ fn json_lists_every_kernel_charged_and_paid() {
         assert!(positives > 0 && positives < 300, "{k}");
     }
     // Triangle tests branch on the input: their counts vary.
-    for name in ["tri-tri-tropp", "tri-tri-edge-crossing"] {
-        let k = list.iter().find(|k| k["name"] == name).unwrap();
+    for name in ["tri-tri-tropp", "tri-tri-edge-crossing"]
+        .iter()
+        .chain(&continuous)
+    {
+        let k = list.iter().find(|k| k["name"] == *name).unwrap();
         assert!(k["paid_operations_min"] != k["paid_operations_max"], "{k}");
     }
     assert_eq!(v["pairs"], 300);

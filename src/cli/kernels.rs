@@ -8,7 +8,8 @@ pub struct KernelsArgs {
     /// Inputs per kernel (a third each disjoint, near touching, intersecting).
     #[arg(long, default_value_t = 100_000, value_parser = parse_pairs)]
     pub pairs: usize,
-    /// Print `{"kernels": [{name, charged_operations, paid_operations_mean,
+    /// Print `{"kernels": [{name, charged_operations (null for the
+    /// continuous kernels), inputs, paid_operations_mean,
     /// paid_operations_min, paid_operations_max, paid_arithmetic_mean,
     /// paid_comparisons_mean, ns_per_test, positives}, ...]}` (plus `pairs`,
     /// `seed`, `narrow_phase`) on stdout instead of the table.

@@ -13,10 +13,12 @@
 //! | [`scaling`] | `scaling`: cost against character, room and crowd size |
 //! | [`figures`] | `figures`: recordings of the paper's Figures 1-3 |
 //! | [`kernels`] | `kernels`: operations charged and paid per kernel |
+//! | [`ccd_queries`] | `ccd-queries`: the continuous kernels on query files with exact answers |
 //! | [`study`] | `plane-sphere-study`: one condition changed at a time |
 
 pub mod args;
 pub mod bench;
+pub mod ccd_queries;
 pub mod compare;
 pub mod figures;
 pub mod inspect;

@@ -13,12 +13,22 @@
 //! | [`counted`] | [`counted::Counted`]: an `f64` counting the operations paid | §6 |
 //! | [`vec3`] | `[T; 3]` vectors over a `Scalar` | |
 //! | [`exact`] | exact triangle-triangle oracle on adaptive predicates | (reference) |
+//! | [`ccd_vertex_face`] | vertex–face continuous collision detection (linear motion over a step) | §7 (future work) |
+//! | [`ccd_edge_edge`] | edge–edge continuous collision detection | §7 |
+//! | [`ccd_triangles`] | triangle–triangle CCD: contact at the start, 6 vertex–face and 9 edge–edge tests | §7 |
+//! | [`ccd_root_finder`] | the conservative inclusion-based root finder both elementary tests run (Wang et al. 2021) | §7 |
+//! | [`ccd_swept_box`] | boxes of points over a step: the CCD early-out | §7 |
 //! | [`closest_point`] | closest point on a triangle, `f64` (plane-sphere false-positive reference) | (reference) |
 //! | [`enclosing`] | minimal enclosing spheres; the paper's sphere of spheres | §3 |
 //!
 //! Storage is `f32` (as a real-time engine would keep it); kernels that decide
 //! contact widen to `f64` internally, where products of `f32` inputs are exact.
 
+pub mod ccd_edge_edge;
+pub mod ccd_root_finder;
+pub mod ccd_swept_box;
+pub mod ccd_triangles;
+pub mod ccd_vertex_face;
 pub mod closest_point;
 pub mod coplanar_degenerate;
 pub mod counted;

@@ -4,12 +4,14 @@
 //! |---|---|
 //! | [`gltf_static`] | every triangle of a glTF/GLB scene in its static pose, world space |
 //! | [`gltf_character`] | the skinned character of a glTF/GLB scene: skeleton, bind-pose mesh, influences, clips |
+//! | [`ccd_queries`] | CCD query files with exact answers (CSV of exact rationals; `cornertree ccd-queries`) |
 //! | [`ply`] | writing triangle meshes as PLY (`run --dump-frame`) |
 //! | [`source`] | a character source: a glTF file or `generated:humanoid?vertices=N&seed=S` |
 //! | [`limits`] | [`LoadLimits`]: the byte budget a file may make the loaders allocate |
 //! | `gltf_bind` | how a character's meshes bind to its one skeleton: several skins (joint slots, bind spaces), rigid meshes below a joint (private) |
 //! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by both loaders) |
 
+pub mod ccd_queries;
 mod gltf_accessor;
 mod gltf_bind;
 pub mod gltf_character;

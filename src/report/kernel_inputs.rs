@@ -4,9 +4,13 @@
 //! 1e-3, either sign) and intersecting, in a fixed order (class `i % 3`).
 //!
 //! The generator is a SplitMix64 stream, so the set depends on the seed only.
+//!
+//! The CCD kernels take [`KernelInputs::moving_pairs`]: each triangle pair
+//! as the end of a step, the second triangle arriving from elsewhere.
 
 use nalgebra::Vector3;
 
+use crate::geometry::ccd_triangles::MovingTriangle;
 use crate::geometry::{Point, Sphere, Triangle};
 
 /// The three input classes, in turn.
@@ -48,6 +52,40 @@ impl KernelInputs {
                 .map(|i| sphere_triangle(&mut rng, InputClass::of(i)))
                 .collect(),
         }
+    }
+}
+
+impl KernelInputs {
+    /// The first `n` triangle pairs as the end (`t = 1`) of a step: the
+    /// first triangle still, the second arriving from one to three of its
+    /// sizes away in a random direction, each of its corners also moving by
+    /// up to a tenth of its size (so it deforms). Intersecting pairs touch
+    /// during the step, others may (passing through) or not.
+    pub fn moving_pairs(
+        &self,
+        n: usize,
+        seed: u64,
+    ) -> Vec<(MovingTriangle<f64>, MovingTriangle<f64>)> {
+        let mut rng = SplitMix64(seed);
+        let widen = |t: &Triangle| t.vertices().map(|p| [p.x as f64, p.y as f64, p.z as f64]);
+        self.triangle_pairs
+            .iter()
+            .take(n)
+            .map(|(a, b)| {
+                let (a, b) = (widen(a), widen(b));
+                let size = diameter(&b.map(|p| P::new(p[0], p[1], p[2])));
+                let away = rng.direction() * size * rng.range(1.0, 3.0);
+                let start = b.map(|p| {
+                    let q = P::new(p[0], p[1], p[2]) - away
+                        + rng.direction() * size * rng.range(0.0, 0.1);
+                    [q.x, q.y, q.z]
+                });
+                (
+                    MovingTriangle { start: a, end: a },
+                    MovingTriangle { start, end: b },
+                )
+            })
+            .collect()
     }
 }
 

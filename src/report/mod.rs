@@ -2,6 +2,7 @@
 //!
 //! | file | what |
 //! |---|---|
+//! | [`ccd_queries`] | CCD kernels against query files with exact answers: misses, false positives, time (`cornertree ccd-queries`) |
 //! | [`animate`] | clip playback: refit containment, tightness, per-frame costs |
 //! | [`bench`] | `bench`'s table and the scaling studies' markdown tables |
 //! | [`kernels`] | operations charged and paid per kernel, time per test (`cornertree kernels`) |
@@ -14,6 +15,7 @@
 
 pub mod animate;
 pub mod bench;
+pub mod ccd_queries;
 pub mod inspect;
 pub mod kernel_inputs;
 pub mod kernels;

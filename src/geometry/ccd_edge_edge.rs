@@ -1,0 +1,118 @@
+//! Edge–edge continuous collision detection: two segments, every end moving
+//! on a straight line over the step `t ∈ [0, 1]`.
+//!
+//! Edges `a₀a₁` and `b₀b₁` meet when
+//! `F(t, u, v) = a₀ − b₀ + u (a₁ − a₀) + v (b₀ − b₁)` (at time `t`) vanishes
+//! for some `u, v ∈ [0, 1]`. Decided by the inclusion-based root finder of
+//! Wang et al. (ACM TOG 40(5), 2021; [`super::ccd_root_finder`]), after a
+//! swept-extent early-out. Conservative like
+//! [`super::ccd_vertex_face`]: `None` only when no contact exists in
+//! `[0, 1]`; `Some` carries a lower bound of the time of first contact and
+//! how close the edges certainly come. `docs/ccd.md` derives the bounds.
+//!
+//! Generic over [`Binary64`]: [`edge_edge`] is the `f64` instantiation;
+//! [`edge_edge_as`] with [`super::counted::Counted`] counts the operations
+//! paid.
+
+use super::ccd_root_finder::{
+    Binary64, Bounds, CcdParams, ContactFunction, Domain, Impact, Seek, find_root, max_magnitudes,
+};
+use super::ccd_swept_box::SweptBox;
+use super::vec3::V3;
+
+/// Sum of the magnitudes of the points' weights in `F`:
+/// `(1 − u) + u + (1 − v) + v = 2`.
+const WEIGHT: f64 = 2.0;
+
+/// Whether edges `a₀a₁` and `b₀b₁` meet during the step: `start` and `end`
+/// hold `a₀, a₁, b₀, b₁` at `t = 0` and `t = 1`. `f64` arithmetic.
+pub fn edge_edge(start: &[V3<f64>; 4], end: &[V3<f64>; 4], params: &CcdParams) -> Option<Impact> {
+    edge_edge_as(start, end, params, 1.0)
+}
+
+/// [`edge_edge`] computed in `T`, seeking only contacts that start before
+/// `before` (`≤ 1`; boxes of later times are skipped).
+pub fn edge_edge_as<T: Binary64>(
+    start: &[V3<T>; 4],
+    end: &[V3<T>; 4],
+    params: &CcdParams,
+    before: f64,
+) -> Option<Impact> {
+    let bounds = Bounds::new(&max_magnitudes(&[&start[..], &end[..]]), params, WEIGHT);
+    let (p, q) = (
+        SweptBox::of(&start[..2], &end[..2]),
+        SweptBox::of(&start[2..], &end[2..]),
+    );
+    if p.apart(&q, &bounds.eps) {
+        return None;
+    }
+    let f = ContactFunction::new(start, end, (0, 2), (1, 0), (2, 3));
+    find_root(
+        &f,
+        &bounds,
+        Domain::Square,
+        Seek::EarliestBefore(before),
+        params.max_boxes,
+        params.time_tolerance,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn crossing_edges() {
+        // a along x at z = 1 → −1; b along y at z = 0.
+        let s = [
+            [-1.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let e = [
+            [-1.0, 0.0, -1.0],
+            [1.0, 0.0, -1.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let hit = edge_edge(&s, &e, &CcdParams::default()).unwrap();
+        assert!(hit.resolved && hit.toi <= 0.5 && hit.toi > 0.499, "{hit:?}");
+    }
+
+    #[test]
+    fn passing_beyond_an_end() {
+        // a passes below b's line, beyond its end at y = 1.
+        let s = [
+            [-1.0, 2.0, 1.0],
+            [1.0, 2.0, 1.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        let e = [
+            [-1.0, 2.0, -1.0],
+            [1.0, 2.0, -1.0],
+            [0.0, -1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ];
+        assert_eq!(edge_edge(&s, &e, &CcdParams::default()), None);
+    }
+
+    #[test]
+    fn parallel_edges_sliding_in_contact() {
+        let s = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.5, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        let e = [
+            [1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [0.5, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+        ];
+        let hit = edge_edge(&s, &e, &CcdParams::default()).unwrap();
+        assert_eq!(hit.toi, 0.0);
+    }
+}
