@@ -14,9 +14,8 @@
 //! [`edge_edge_as`] with [`super::counted::Counted`] counts the operations
 //! paid.
 
-use super::ccd_root_finder::{
-    Binary64, Bounds, CcdParams, ContactFunction, Domain, Impact, Seek, find_root, max_magnitudes,
-};
+use super::ccd_error_bounds::{Binary64, Bounds, max_magnitudes};
+use super::ccd_root_finder::{CcdParams, ContactFunction, Domain, Impact, Seek, find_root};
 use super::ccd_swept_box::SweptBox;
 use super::vec3::V3;
 

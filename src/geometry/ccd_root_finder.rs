@@ -41,7 +41,7 @@
 //! conservatively, its witness then certified only to the looser
 //! [`Impact::within`] it reached.
 //!
-//! `ε` per coordinate is `C · M` with `M` the largest magnitude of that
+//! The bounds ([`super::ccd_error_bounds`]): `ε` per coordinate is `C · M` with `M` the largest magnitude of that
 //! coordinate over the query's eight input points: the rounding of the
 //! evaluation (7 roundings deep, `|F|`'s magnitudes summing to at most
 //! `18 M`: `C ≥ 18 γ₇`) plus the inputs' own rounding error
@@ -55,32 +55,10 @@
 //! (dyadic numerators and levels, the stack) is on integers and not
 //! counted; the search allocates nothing (a fixed stack of boxes).
 
-use super::counted::Counted;
-use super::scalar::Scalar;
-use super::vec3::{V3, cross, dot};
-
-/// Scalars whose arithmetic is IEEE binary64 rounded to nearest, which the
-/// error bound assumes: `f64`, and [`Counted`] (an `f64` that counts).
-pub trait Binary64: Scalar {}
-impl Binary64 for f64 {}
-impl Binary64 for Counted {}
-
-/// Unit roundoff of binary64, `2⁻⁵³`.
-const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
-
-/// Rounding of the evaluation of `F` at a corner, relative to the largest
-/// input magnitude `M` of the coordinate: at least `18 γ₇`
-/// (`γ₇ = 7u / (1 − 7u)`; 1.3989e-14), rounded up with room for the
-/// roundings of `ε` itself (`docs/ccd.md`).
-const EVALUATION_ERROR: f64 = 1.4e-14;
-
-/// Rounding of a direction's component `d · F̃` at a corner, relative to
-/// `Σₐ |dₐ| Mₐ`: at least `18 γ₃ (1 + γ₇)` (5.995e-15; `docs/ccd.md`).
-const DIRECTION_ERROR: f64 = 6.1e-15;
-
-/// Relative error of `fl(fl(n) / fl(d))`, an exact rational `n / d`
-/// converted to `f64` (three roundings: `(1 + u)² / (1 − u) − 1 < 3.001 u`).
-pub const RATIONAL_ROUNDING: f64 = 3.001 * UNIT_ROUNDOFF;
+pub use super::ccd_error_bounds::{Binary64, RATIONAL_ROUNDING};
+use super::ccd_error_bounds::{Bounds, Directions, within};
+pub use super::ccd_param_box::{Dyadic, ParamBox};
+use super::vec3::{V3, cross};
 
 /// Default tolerance δ: a positive answer brings the primitives within δ of
 /// each other in every coordinate (for inputs of unit scale).
@@ -94,11 +72,6 @@ pub const DEFAULT_TIME_TOLERANCE: f64 = 1e-6;
 
 /// Most halvings of one parameter (its intervals stay exact `f64` dyadics).
 pub const MAX_LEVEL: u8 = 52;
-
-/// The smallest acceptance bound, in units of `ε`: a tolerance below
-/// `MIN_TOLERANCE_IN_EPS · ε` is raised to it (with `δ ≈ ε` rounding noise
-/// alone would keep boxes from being accepted).
-const MIN_TOLERANCE_IN_EPS: f64 = 16.0;
 
 /// Settings of a CCD query.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -130,84 +103,6 @@ impl Default for CcdParams {
             max_boxes: DEFAULT_MAX_BOXES,
             time_tolerance: DEFAULT_TIME_TOLERANCE,
         }
-    }
-}
-
-/// An interval `[k / 2ˡ, (k + 1) / 2ˡ]` of a parameter.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Dyadic {
-    pub k: u64,
-    pub level: u8,
-}
-
-impl Dyadic {
-    const UNIT: Dyadic = Dyadic { k: 0, level: 0 };
-
-    /// `2⁻ˡ`, exactly.
-    fn scale(self) -> f64 {
-        f64::from_bits((1023 - self.level as u64) << 52)
-    }
-
-    /// The lower end (exact).
-    pub fn lo(self) -> f64 {
-        self.k as f64 * self.scale()
-    }
-
-    /// The upper end (exact).
-    pub fn hi(self) -> f64 {
-        (self.k + 1) as f64 * self.scale()
-    }
-
-    fn halves(self) -> [Dyadic; 2] {
-        let level = self.level + 1;
-        [
-            Dyadic {
-                k: 2 * self.k,
-                level,
-            },
-            Dyadic {
-                k: 2 * self.k + 1,
-                level,
-            },
-        ]
-    }
-}
-
-/// A box of parameters: time `t` and the two feature parameters `u`, `v`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ParamBox {
-    pub t: Dyadic,
-    pub u: Dyadic,
-    pub v: Dyadic,
-}
-
-impl ParamBox {
-    const UNIT: ParamBox = ParamBox {
-        t: Dyadic::UNIT,
-        u: Dyadic::UNIT,
-        v: Dyadic::UNIT,
-    };
-
-    fn dims(&self) -> [Dyadic; 3] {
-        [self.t, self.u, self.v]
-    }
-
-    fn with(&self, dim: usize, d: Dyadic) -> ParamBox {
-        let mut b = *self;
-        match dim {
-            0 => b.t = d,
-            1 => b.u = d,
-            _ => b.v = d,
-        }
-        b
-    }
-
-    /// Whether `u_lo + v_lo ≤ 1` (the box reaches the triangle
-    /// `{u, v ≥ 0, u + v ≤ 1}`), on the integer numerators.
-    fn reaches_triangle(&self) -> bool {
-        let l = self.u.level.max(self.v.level);
-        let num = (self.u.k << (l - self.u.level)) + (self.v.k << (l - self.v.level));
-        num <= 1u64 << l
     }
 }
 
@@ -308,53 +203,6 @@ impl<T: Binary64> ContactFunction<T> {
     }
 }
 
-/// Per-coordinate rounding bound `ε` and acceptance bound of a query.
-pub(super) struct Bounds<T> {
-    /// `ε`: bounds `|F̃ − F|` at any corner of `[0, 1]³` (true inputs).
-    pub(super) eps: V3<T>,
-    /// Corner values within `±accept` (all coordinates) accept a box.
-    accept: V3<T>,
-    /// The largest input magnitude per coordinate.
-    m: V3<T>,
-}
-
-impl<T: Binary64> Bounds<T> {
-    /// The bounds for a query whose points have, per coordinate, magnitudes
-    /// at most `m` ([`max_magnitudes`]); `weight` bounds the sum of the
-    /// magnitudes of the points' weights in `F` (4 for vertex–face, 2 for
-    /// edge–edge).
-    pub(super) fn new(m: &V3<T>, params: &CcdParams, weight: f64) -> Self {
-        let c = T::from_f64(EVALUATION_ERROR + weight * params.input_error);
-        // Covers underflow: products of subnormals err by up to 2⁻¹⁰⁷⁵ each.
-        let tiny = T::from_f64(f64::MIN_POSITIVE);
-        let delta = T::from_f64(params.tolerance);
-        let raise = T::from_f64(MIN_TOLERANCE_IN_EPS);
-        let shrink = T::from_f64(1.0 - 4.0 * UNIT_ROUNDOFF);
-        let two = T::from_f64(2.0);
-        let mut eps = [T::zero(); 3];
-        let mut accept = [T::zero(); 3];
-        for a in 0..3 {
-            eps[a] = c * m[a] + tiny;
-            // accept ≤ δᵢ − 2ε, δᵢ = max(δ, 16 ε): an accepted box's
-            // enclosure (corners ± ε) stays within ±δᵢ despite rounding.
-            let d = delta.max_of(raise * eps[a]);
-            accept[a] = d * shrink - two * eps[a];
-        }
-        Self { eps, accept, m: *m }
-    }
-}
-
-/// The largest magnitude of each coordinate over the points of `sets`.
-pub(super) fn max_magnitudes<T: Binary64>(sets: &[&[V3<T>]]) -> V3<T> {
-    let mut m = [T::zero(); 3];
-    for p in sets.iter().flat_map(|s| s.iter()) {
-        for a in 0..3 {
-            m[a] = m[a].max_of(p[a].abs());
-        }
-    }
-    m
-}
-
 /// Stack capacity: depth first, each split adds one box, at most
 /// `3 · MAX_LEVEL` splits deep.
 const STACK: usize = 3 * MAX_LEVEL as usize + 2;
@@ -384,7 +232,7 @@ pub(super) fn find_root<T: Binary64>(
     };
     let max_boxes = max_boxes.max(1);
     let tau = T::from_f64(time_tolerance);
-    let directions = Directions::new(f, bounds);
+    let directions = Directions::new(f.normals(), bounds);
     let mut stack = [ParamBox::UNIT; STACK];
     let mut len = 1;
     let mut best = T::from_f64(before);
@@ -489,53 +337,6 @@ pub(super) fn find_root<T: Binary64>(
     })
 }
 
-/// The directions besides the axes in which the search tests `F`
-/// ([`ContactFunction::normals`]) with their rounding bounds: `d · F` is
-/// also linear in each parameter, so its corner values enclose it too.
-struct Directions<T> {
-    d: [V3<T>; 2],
-    /// Bounds `|fl(d · F̃) − d · F|` at any corner (true inputs).
-    eta: [T; 2],
-}
-
-impl<T: Binary64> Directions<T> {
-    fn new(f: &ContactFunction<T>, bounds: &Bounds<T>) -> Self {
-        let d = f.normals();
-        let c = T::from_f64(DIRECTION_ERROR);
-        // Room for the few roundings of η itself.
-        let up = T::from_f64(1.0 + 1e-12);
-        let per_axis: V3<T> = std::array::from_fn(|a| bounds.eps[a] + c * bounds.m[a]);
-        let eta = d.map(|d| dot(&d.map(T::abs), &per_axis) * up);
-        Self { d, eta }
-    }
-
-    /// Whether `d · F` keeps one strict sign over the corners `c` (beyond
-    /// its rounding bound) for one of the directions: no zero in the box.
-    fn exclude_zero(&self, c: &[V3<T>; 8]) -> bool {
-        self.d.iter().zip(&self.eta).any(|(d, &eta)| {
-            let first = dot(d, &c[0]);
-            let (mut lo, mut hi) = (first, first);
-            for corner in &c[1..] {
-                let g = dot(d, corner);
-                lo = lo.min_of(g);
-                hi = hi.max_of(g);
-            }
-            lo > eta || hi < -eta
-        })
-    }
-}
-
-/// Bound on every coordinate of `F` over a box not rejected (so enclosing
-/// 0): `max(hi, −lo) + ε`, rounded up (`f64`, once per query).
-fn within<T: Binary64>(lo: &V3<T>, hi: &V3<T>, eps: &V3<T>) -> f64 {
-    (0..3)
-        .map(|a| {
-            let m = hi[a].to_f64().max(-lo[a].to_f64()) + eps[a].to_f64();
-            m * (1.0 + 4.0 * UNIT_ROUNDOFF)
-        })
-        .fold(0.0, f64::max)
-}
-
 /// The parameter to split: the one along which `F` changes most across the
 /// box (largest difference between corners on a parallel edge, any
 /// coordinate), among those not at [`MAX_LEVEL`].
@@ -556,44 +357,4 @@ fn split_dimension<T: Binary64>(c: &[V3<T>; 8], dims: &[Dyadic; 3]) -> Option<us
         }
     }
     best.map(|(d, _)| d)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn dyadic_ends_are_exact() {
-        let d = Dyadic { k: 3, level: 2 };
-        assert_eq!((d.lo(), d.hi()), (0.75, 1.0));
-        let [a, b] = d.halves();
-        assert_eq!((a.lo(), a.hi(), b.lo(), b.hi()), (0.75, 0.875, 0.875, 1.0));
-        let fine = Dyadic {
-            k: (1 << 52) - 1,
-            level: 52,
-        };
-        assert_eq!(fine.hi(), 1.0);
-        assert_eq!(fine.lo(), 1.0 - f64::EPSILON);
-    }
-
-    #[test]
-    fn triangle_domain_on_numerators() {
-        let b = |ku, lu, kv, lv| ParamBox {
-            t: Dyadic::UNIT,
-            u: Dyadic { k: ku, level: lu },
-            v: Dyadic { k: kv, level: lv },
-        };
-        assert!(b(0, 0, 0, 0).reaches_triangle());
-        assert!(b(1, 1, 1, 1).reaches_triangle()); // 1/2 + 1/2 = 1
-        assert!(!b(1, 1, 3, 2).reaches_triangle()); // 1/2 + 3/4
-        assert!(b(1, 2, 3, 2).reaches_triangle()); // 1/4 + 3/4
-    }
-
-    #[test]
-    fn evaluation_error_covers_eighteen_gamma_seven() {
-        let u = UNIT_ROUNDOFF;
-        let gamma7 = 7.0 * u / (1.0 - 7.0 * u);
-        assert!(EVALUATION_ERROR > 18.0 * gamma7 * (1.0 + 1e-4));
-        assert!((1.0 + u) * (1.0 + u) / (1.0 - u) - 1.0 < RATIONAL_ROUNDING);
-    }
 }

@@ -22,7 +22,8 @@
 //! elementary contact that gave it.
 
 use super::ccd_edge_edge::edge_edge_as;
-use super::ccd_root_finder::{Binary64, Bounds, CcdParams, Impact, Seek, max_magnitudes};
+use super::ccd_error_bounds::{Binary64, Bounds, max_magnitudes};
+use super::ccd_root_finder::{CcdParams, Impact, Seek};
 use super::ccd_swept_box::SweptBox;
 use super::ccd_vertex_face::{search as vertex_face_search, vertex_face_as};
 use super::vec3::V3;
@@ -70,6 +71,23 @@ pub fn triangles(
 
 /// A lower bound of the time two moving triangles first touch, given their
 /// corners at the start and end of the step; `None` when they never touch.
+///
+/// ```
+/// use cornertree::geometry::ccd_root_finder::CcdParams;
+/// use cornertree::geometry::ccd_triangles::time_of_impact;
+///
+/// // A sliver swept across x = 0 between two frames, through a small still
+/// // triangle it misses at both frames; they first touch at t = 0.5.
+/// let pole_start = [[-1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, 0.0, 1.0]];
+/// let pole_end = pole_start.map(|p| [p[0] + 2.0, p[1], p[2]]);
+/// let tri = [[0.0, -0.1, 0.0], [0.0, 0.1, 0.0], [0.1, 0.0, 0.0]];
+/// let params = CcdParams::default();
+/// let toi = time_of_impact(&pole_start, &pole_end, &tri, &tri, &params).unwrap();
+/// assert!(toi <= 0.5 && toi > 0.49);
+/// // Stopping short of the triangle: no contact.
+/// let short = pole_start.map(|p| [p[0] + 0.9, p[1], p[2]]);
+/// assert_eq!(time_of_impact(&pole_start, &short, &tri, &tri, &params), None);
+/// ```
 pub fn time_of_impact(
     a_start: &[V3<f64>; 3],
     a_end: &[V3<f64>; 3],

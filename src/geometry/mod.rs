@@ -18,6 +18,8 @@
 //! | [`ccd_triangles`] | triangle–triangle CCD: contact at the start, 6 vertex–face and 9 edge–edge tests | §7 |
 //! | [`ccd_root_finder`] | the conservative inclusion-based root finder both elementary tests run (Wang et al. 2021) | §7 |
 //! | [`ccd_swept_box`] | boxes of points over a step: the CCD early-out | §7 |
+//! | [`ccd_error_bounds`] | the root finder's certified rounding bounds (inputs' rounding included) | §7 |
+//! | [`ccd_param_box`] | dyadic boxes of the root finder's parameters `(t, u, v)` | §7 |
 //! | [`closest_point`] | closest point on a triangle, `f64` (plane-sphere false-positive reference) | (reference) |
 //! | [`enclosing`] | minimal enclosing spheres; the paper's sphere of spheres | §3 |
 //!
@@ -25,6 +27,8 @@
 //! contact widen to `f64` internally, where products of `f32` inputs are exact.
 
 pub mod ccd_edge_edge;
+pub mod ccd_error_bounds;
+pub mod ccd_param_box;
 pub mod ccd_root_finder;
 pub mod ccd_swept_box;
 pub mod ccd_triangles;
