@@ -16,8 +16,12 @@ use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
 use cornertree::record::{RecordOptions, RunRecorder, SceneInfo};
 use cornertree::report::run::TruthRecord;
-use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable, WorldFrameRecord};
-use cornertree::scenario::{Resolved, open_scenario_with, scenario_name};
+use cornertree::report::run::{
+    FrameRecord, MethodRun, Summary, SummaryBuilder, SummaryTable, WorldFrameRecord,
+};
+use cornertree::scenario::budget::RunBudget;
+use cornertree::scenario::ranges::MAX_FRAMES;
+use cornertree::scenario::{Resolved, RunLimits, open_scenario_within, scenario_name};
 use cornertree::truth::WorldTruth;
 use cornertree::truth::{FrameTruth, MethodContext};
 use cornertree::world::World;
@@ -63,8 +67,25 @@ pub struct RunArgs {
     /// core). Counters and pairs do not depend on it.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Most memory the scenario's bodies, hierarchies and ground truth may
+    /// take, in GiB (estimated before they are built; docs/robustness.md).
+    #[arg(long, value_name = "GIB", default_value_t = DEFAULT_BUDGET_GIB)]
+    pub memory_budget: f64,
     #[command(flatten)]
     pub rerun: rerun::clap::RerunArgs,
+}
+
+/// `--memory-budget` by default: [`RunLimits::default`] in GiB.
+const DEFAULT_BUDGET_GIB: f64 = 4.0;
+
+/// `--memory-budget` as limits.
+fn run_limits(gib: f64) -> anyhow::Result<RunLimits> {
+    if !(gib.is_finite() && gib > 0.0 && gib <= 1e6) {
+        anyhow::bail!("--memory-budget: must be GiB from above 0 to 1e6, not {gib}");
+    }
+    Ok(RunLimits {
+        max_bytes: (gib * f64::from(1u32 << 30)) as usize,
+    })
 }
 
 /// Where recordings go, from what was actually typed: rerun's arguments
@@ -148,6 +169,9 @@ pub struct CompareArgs {
     /// model) or `linear` (glTF linear blend skinning).
     #[arg(long, value_enum)]
     pub skinning: Option<SkinningModel>,
+    /// Most memory the scenario may take, in GiB (as `run --memory-budget`).
+    #[arg(long, value_name = "GIB", default_value_t = DEFAULT_BUDGET_GIB)]
+    pub memory_budget: f64,
 }
 
 /// How the summary table is printed.
@@ -174,6 +198,7 @@ pub fn compare(args: CompareArgs) -> anyhow::Result<String> {
         dump_frame: None,
         no_record: true,
         threads: 0,
+        memory_budget: args.memory_budget,
         rerun: no_rerun,
     };
     let style = if args.markdown {
@@ -192,16 +217,22 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     let started = std::time::Instant::now();
     // Everything that can be wrong with the input fails here, before any file
     // is created.
-    let mut resolved = open_scenario_with(&args.scenario, |s| {
+    let limits = run_limits(args.memory_budget)?;
+    if let Some(f) = args.frames
+        && f > MAX_FRAMES
+    {
+        anyhow::bail!("--frames: must be a whole number from 1 to {MAX_FRAMES}, not {f}");
+    }
+    let mut resolved = open_scenario_within(&args.scenario, &limits, |s| {
         if let Some(model) = args.skinning {
             for c in &mut s.characters {
                 c.character.skinning = model;
             }
         }
+        if !args.methods.is_empty() {
+            s.methods = args.methods.clone();
+        }
     })?;
-    if !args.methods.is_empty() {
-        resolved.methods = args.methods.clone();
-    }
     if args.no_dedup {
         resolved.dedup = false;
     }
@@ -227,6 +258,24 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
     target.check(resolved.methods.len())?;
     let frames = args.frames.map_or(resolved.frames(), |f| f as usize);
     resolved.frames = frames;
+    if args.json.is_some() {
+        // The JSON report keeps every frame's record (pairs come on top).
+        let mut budget = RunBudget::new(&limits);
+        let charged = budget.charge(Some(resolved.estimated_bytes), String::new);
+        let records = frames
+            .checked_mul(resolved.methods.len())
+            .and_then(|n| n.checked_mul(std::mem::size_of::<FrameRecord>()));
+        charged
+            .and_then(|()| {
+                budget.charge(records, || {
+                    format!(
+                        "--json: the report of {frames} frames of {} methods",
+                        resolved.methods.len()
+                    )
+                })
+            })
+            .map_err(|e| anyhow::anyhow!("{}: frames: {e}", args.scenario.display()))?;
+    }
     let dump = match &args.dump_frame {
         Some(_) if is_world => anyhow::bail!(
             "--dump-frame: only for a scenario with one character and no moving objects"
@@ -343,6 +392,9 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         }
     }
 
+    // Per-frame records are summed as they come; they are kept only for the
+    // JSON report, so a long run's memory stays flat.
+    let keep_frames = args.json.is_some();
     let mut runs: Vec<MethodRun> = world
         .methods
         .iter_mut()
@@ -355,8 +407,12 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
             } else {
                 m.pipeline(0).hierarchy_bytes()
             },
-            frames: Vec::with_capacity(frames),
+            frames: Vec::new(),
         })
+        .collect();
+    let mut summing: Vec<SummaryBuilder> = runs
+        .iter()
+        .map(|r| SummaryBuilder::new(r.method, r.hierarchy_bytes))
         .collect();
     let interrupted = interrupt_flag();
     progress.set_message("");
@@ -441,7 +497,10 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
                 }
                 None => None,
             };
-            runs[i].frames.push(record);
+            summing[i].add(&record);
+            if keep_frames {
+                runs[i].frames.push(record);
+            }
             if let Some(rec) = &mut recorders[i] {
                 // Written to disk every frame: a killed run leaves a recording
                 // of every frame before the kill.
@@ -507,7 +566,7 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         }
     }
 
-    let summaries: Vec<Summary> = runs.iter().map(MethodRun::summary).collect();
+    let summaries: Vec<Summary> = summing.iter().map(SummaryBuilder::summary).collect();
     if let Some(path) = &args.json {
         let text = match runs.as_slice() {
             [one] => serde_json::to_string(one)?,
@@ -581,7 +640,7 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         Style::Markdown => SummaryTable(&summaries).markdown(),
     };
     if is_world {
-        out += &world_kind_table(&runs, world_truth.is_some());
+        out += &world_kind_table(&summing, world_truth.is_some());
     }
     out += &format!(
         "{played} frames, {} methods in {:.1} s (hierarchies, frames{})\n",
@@ -618,30 +677,27 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
 
 /// Per pair kind: each method's pairs over the run and, with the truth,
 /// precision and recall.
-fn world_kind_table(runs: &[MethodRun], with_truth: bool) -> String {
+fn world_kind_table(runs: &[SummaryBuilder], with_truth: bool) -> String {
     use cornertree::world::PairKind;
     let mut out = String::from(
         "per pair kind (pairs over the run; precision / recall against the exact pairs):\n",
     );
     for r in runs {
-        out += &format!("  {:32}", r.method.name());
+        out += &format!("  {:32}", r.method().name());
         for kind in PairKind::ALL {
-            let (mut pairs, mut acc) = (0u64, cornertree::truth::Accuracy::default());
-            let mut ops = 0u64;
-            for f in &r.frames {
-                let Some(w) = &f.world else { continue };
-                pairs += w.by_kind.get(kind).pairs;
-                ops = ops.max(w.by_kind.get(kind).operations);
-                if let Some(a) = &w.accuracy_by_kind {
-                    let a = a.get(kind);
-                    acc.tp += a.tp;
-                    acc.fp += a.fp;
-                    acc.fn_ += a.fn_;
-                }
-            }
-            out += &format!(" {}: {pairs} pairs, max {ops} ops", kind.name());
+            let k = r.by_kind.get(kind);
+            out += &format!(
+                " {}: {} pairs, max {} ops",
+                kind.name(),
+                k.pairs,
+                k.max_operations
+            );
             if with_truth {
-                out += &format!(" ({:.3} / {:.3})", acc.precision(), acc.recall());
+                out += &format!(
+                    " ({:.3} / {:.3})",
+                    k.accuracy.precision(),
+                    k.accuracy.recall()
+                );
             }
             out += ";";
         }
