@@ -426,6 +426,13 @@ fn play(args: RunArgs, target: RecordingTarget, style: Style) -> anyhow::Result<
         // dump, when any of them is on (not part of any method's time:
         // methods skin only what they test).
         world.pose(k);
+        if let Some((c, reach)) = world.out_of_range() {
+            discard(&created);
+            anyhow::bail!(
+                "{}",
+                pose_out_of_range(&args.scenario, &world.scene, c, reach, k)
+            );
+        }
         let dumped = dump.as_ref().is_some_and(|(dk, _)| *dk == k);
         if truth.is_some()
             || world_truth.is_some()
@@ -704,6 +711,24 @@ fn world_kind_table(runs: &[SummaryBuilder], with_truth: bool) -> String {
         out += "\n";
     }
     out
+}
+
+/// The one-line refusal of a frame whose pose takes character `c` out of
+/// the coordinate range (see `World::pose`).
+pub fn pose_out_of_range(
+    scenario: &Path,
+    scene: &Resolved,
+    c: usize,
+    reach: f32,
+    k: usize,
+) -> String {
+    format!(
+        "{}: character {:?}: frame {k}: its clip takes vertices up to {} m from the origin, beyond the {} accepted for coordinates",
+        scenario.display(),
+        scene.characters[c].name,
+        cornertree::scenario::ranges::show(f64::from(reach)),
+        cornertree::scenario::ranges::show(f64::from(cornertree::io::limits::MAX_COORDINATE))
+    )
 }
 
 fn file_size(path: &Path) -> String {

@@ -4,6 +4,9 @@
 //! refused before they are allocated, naming the value that drove them; and
 //! `cornertree run` exits with status 1 on both.
 
+mod common;
+use common::glb::Glb;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
@@ -342,6 +345,46 @@ fn the_cli_exits_with_status_1_and_one_line() {
         )) && err.ends_with(
             "over the run's memory budget of 10 MiB (RunLimits::max_bytes, --memory-budget)\n"
         ) && err.lines().count() == 1,
+        "{err}"
+    );
+}
+
+/// A character whose clip holds finite but absurd keyframes (1e30 m
+/// translations) is refused at the first frame it reaches that far, not
+/// played with overflowing distances.
+#[test]
+fn a_clip_posing_out_of_range_stops_the_run_in_one_line() {
+    let cesium = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/CesiumMan.glb");
+    let mut glb = Glb::parse(std::fs::read(cesium).unwrap());
+    let output = glb.channel_output(0, 0);
+    for element in 0..glb.accessor(output)["count"].as_u64().unwrap() as usize {
+        glb.set_float(output, element, 0, 1e30);
+    }
+    let character = scratch("huge_clip.glb");
+    std::fs::write(&character, &glb.bytes).unwrap();
+    let path = scratch("huge_clip.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "frames = 3\n[character]\nsource = {:?}\n[environment]\nkind = \"museum\"\n[placement]\nstart = {{ translation = [2, 0, 1] }}\n",
+            character.display().to_string()
+        ),
+    )
+    .unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_cornertree"))
+        .args(["run", path.to_str().unwrap(), "--no-record"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    let prefix = format!(
+        "error: {}: character \"character\": frame 0: its clip takes vertices up to ",
+        path.display()
+    );
+    assert!(
+        err.starts_with(&prefix)
+            && err.ends_with(" m from the origin, beyond the 1e9 accepted for coordinates\n")
+            && err.lines().count() == 1,
         "{err}"
     );
 }

@@ -138,6 +138,17 @@ fn run(text: &str, path: &Path) -> Result<Outcome, String> {
     played.dedup();
     for k in played {
         world.pose(k);
+        if let Some((c, reach)) = world.out_of_range() {
+            // What `run` prints then.
+            return judge_error(
+                path,
+                &format!(
+                    "{}: character {:?}: frame {k}: its clip takes vertices up to {reach:e} m from the origin",
+                    path.display(),
+                    world.scene.characters[c].name
+                ),
+            );
+        }
         world.skin_all();
         if let Some(t) = truth.as_mut() {
             let first = world.scene.first();
