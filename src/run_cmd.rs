@@ -726,8 +726,8 @@ pub fn pose_out_of_range(
         "{}: character {:?}: frame {k}: its clip takes vertices up to {} m from the origin, beyond the {} accepted for coordinates",
         scenario.display(),
         scene.characters[c].name,
-        cornertree::scenario::ranges::show(f64::from(reach)),
-        cornertree::scenario::ranges::show(f64::from(cornertree::io::limits::MAX_COORDINATE))
+        cornertree::scenario::ranges::show_f32(reach),
+        cornertree::scenario::ranges::show_f32(cornertree::io::limits::MAX_COORDINATE)
     )
 }
 

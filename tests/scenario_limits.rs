@@ -288,7 +288,7 @@ fn sizes_past_the_budget_are_refused_before_they_are_built() {
     );
     let (_, e) = refused("tiny_threshold.toml", &text);
     assert!(
-        e.contains(": threshold: threshold = 0.000001 m: the big triangles' divisions ("),
+        e.contains(": threshold: threshold = 1e-6 m: dividing the big triangles ("),
         "{e}"
     );
 }

@@ -101,7 +101,7 @@ impl RunBudget {
                 what(),
                 bytes.map_or("more than 2^64 bytes".into(), show_bytes),
                 match total {
-                    Some(t) if self.used > 0 => format!(" (the run so far {})", show_bytes(t)),
+                    Some(t) if self.used > 0 => format!(", {} in all", show_bytes(t)),
                     _ => String::new(),
                 },
                 show_bytes(self.max)
@@ -184,7 +184,7 @@ mod tests {
             .unwrap_err();
         assert_eq!(
             e,
-            "a character needs about 1.5 GiB (the run so far 3.5 GiB), over the run's memory budget of 3.0 GiB (RunLimits::max_bytes, --memory-budget)"
+            "a character needs about 1.5 GiB, 3.5 GiB in all, over the run's memory budget of 3.0 GiB (RunLimits::max_bytes, --memory-budget)"
         );
         assert_eq!(b.used(), 2 << 30, "a refused charge is not kept");
         let e = b.charge(None, || "x".into()).unwrap_err();

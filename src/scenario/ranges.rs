@@ -43,6 +43,12 @@ pub fn show(v: f64) -> String {
     }
 }
 
+/// An `f32` as [`show`] shows it, from its shortest decimal form (`1e-6`,
+/// not `9.999999974752427e-7`).
+pub fn show_f32(v: f32) -> String {
+    show(v.to_string().parse().unwrap_or(f64::from(v)))
+}
+
 /// `Err` unless `v` is finite and `|v| <= max`: "must be finite UNIT within ±MAX, not V".
 pub fn within(v: f64, max: f64, unit: &str) -> Result<f64, String> {
     if v.is_finite() && v.abs() <= max {
@@ -106,6 +112,8 @@ mod tests {
         assert_eq!(show(1e-6), "1e-6");
         assert_eq!(show(f64::NAN), "NaN");
         assert_eq!(show(f64::NEG_INFINITY), "-inf");
+        assert_eq!(show_f32(1e-6), "1e-6");
+        assert_eq!(show_f32(3.2e30), "3.2e30");
     }
 
     #[test]

@@ -510,8 +510,8 @@ pub fn resolve_with(
     budget
         .charge(budget::division_bytes(nodes), || {
             format!(
-                "threshold = {} m: the big triangles' divisions ({nodes} nodes over {with_methods})",
-                s.threshold
+                "threshold = {} m: dividing the big triangles ({nodes} nodes over {with_methods})",
+                ranges::show_f32(s.threshold)
             )
         })
         .map_err(|m| fail("threshold", m))?;
