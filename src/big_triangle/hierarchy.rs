@@ -177,6 +177,45 @@ fn area_f64(t: &Triangle) -> f64 {
     0.5 * (b - a).cross(&(c - a)).norm()
 }
 
+/// Most nodes [`Division::build`] makes for a triangle whose longest edge is
+/// `longest`, without building it (to bound memory before a build).
+///
+/// A split's four pieces are congruent to their parent halved, so every piece
+/// of level `l` has longest edge `longest / 2^(l-1)`, and every piece of a
+/// level splits or none does: the levels reached follow from the threshold.
+/// A full division holds `4^(l-1)` nodes on level `l`. In a corner-tree a
+/// piece with two boundary edges (`a`) splits into one such, two with one
+/// boundary edge (`b`) and a central leaf; a `b` piece into two `b` pieces
+/// and two leaves (Table 1: 1, 4, 12, 36, 84, …). Rounding of the midpoints
+/// can only make an edge a few ulps longer: levels are counted as if the
+/// threshold were a little smaller, so the count is never below the build's.
+pub fn division_nodes(
+    longest: Real,
+    threshold: Real,
+    kind: DivisionKind,
+    max_levels: usize,
+) -> u64 {
+    let mut levels = 1;
+    let mut edge = longest as f64;
+    while levels < max_levels && edge > threshold as f64 * (1.0 - 1e-4) {
+        levels += 1;
+        edge *= 0.5;
+    }
+    match kind {
+        DivisionKind::Full => (0..levels).map(|l| 4u64.pow(l as u32)).sum(),
+        DivisionKind::Corner => {
+            // Splitting pieces per level: the root, then `a + b`.
+            let (mut a, mut b, mut nodes) = (0u64, 0u64, 1u64);
+            for l in 1..levels {
+                let splitting = if l == 1 { 1 } else { a + b };
+                nodes += 4 * splitting;
+                (a, b) = if l == 1 { (3, 0) } else { (a, 2 * a + 2 * b) };
+            }
+            nodes
+        }
+    }
+}
+
 /// Table 1, counted on trees actually built over `t`: spheres on levels
 /// 1..=`levels` for the corner-tree and the quaternary tree. The threshold is
 /// chosen between the longest edges of levels `levels - 1` and `levels` so
@@ -233,6 +272,49 @@ mod tests {
         let d = Division::build(&t(), TriangleId(0), DivisionKind::Full, 1e-6, 4);
         assert!(d.capped);
         assert_eq!(d.nodes_per_level(), vec![1, 4, 16, 64]);
+    }
+
+    #[test]
+    fn node_bound_matches_built_divisions() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::SmallRng::seed_from_u64(15);
+        let (mut equal, mut cases) = (0, 0);
+        for _ in 0..300 {
+            let mut p = || {
+                Point::new(
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-3.0..3.0),
+                    rng.random_range(-3.0..3.0),
+                )
+            };
+            let t = Triangle::new(p(), p(), p());
+            if t.area() < 1e-3 {
+                continue;
+            }
+            let threshold = rng.random_range(0.01..2.0f32);
+            let levels = rng.random_range(1..=8);
+            for kind in [DivisionKind::Full, DivisionKind::Corner] {
+                let built = Division::build(&t, TriangleId(0), kind, threshold, levels)
+                    .tree
+                    .len() as u64;
+                let bound = division_nodes(t.longest_edge(), threshold, kind, levels);
+                assert!(
+                    bound >= built,
+                    "{kind:?} {levels} levels: bound {bound} < built {built}"
+                );
+                cases += 1;
+                equal += usize::from(bound == built);
+            }
+        }
+        assert!(equal * 100 >= cases * 99, "{equal} of {cases} exact");
+        assert_eq!(
+            division_nodes(10.0, 1e-9, DivisionKind::Full, MAX_LEVELS),
+            349_525
+        );
+        assert_eq!(
+            division_nodes(10.0, 1e-9, DivisionKind::Corner, 7),
+            1 + 4 + 12 + 36 + 84 + 180 + 372
+        );
     }
 
     #[test]

@@ -127,6 +127,27 @@ impl PoseBuffers {
         self.base = placement * self.base;
     }
 
+    /// An upper bound of the distance from the origin of any vertex skinned
+    /// from the current matrices, for a character whose bind vertices lie
+    /// within `bind_reach` of the origin: both skinning models blend skin
+    /// matrices (and, for the paper's, the base) with convex weights, so no
+    /// vertex goes further than the furthest matrix takes a bind vertex.
+    /// Not finite when a matrix is not.
+    pub fn reach(&self, bind_reach: f32) -> f32 {
+        self.skin
+            .iter()
+            .chain([&self.base])
+            .map(|m| {
+                let linear = m.fixed_view::<3, 3>(0, 0).norm();
+                let t = m.fixed_view::<3, 1>(0, 3).norm();
+                linear * bind_reach + t
+            })
+            .fold(
+                0.0,
+                |a: f32, b| if b.is_nan() { f32::INFINITY } else { a.max(b) },
+            )
+    }
+
     /// Skins every vertex with `model` from the current skin matrices.
     pub fn skin_all(&mut self, character: &Character, model: SkinningModel) {
         skin_every_vertex(

@@ -7,7 +7,7 @@ use cornertree::pipeline::Method;
 use cornertree::record::target::RecordingTarget;
 
 use super::args::ScenarioArgs;
-use super::play::{PlayArgs, Style, play};
+use super::play::{DEFAULT_BUDGET_GIB, PlayArgs, Style, play};
 
 #[derive(clap::Args)]
 pub struct CompareArgs {
@@ -24,6 +24,10 @@ pub struct CompareArgs {
     /// core). Counters and pairs do not depend on it.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Most memory the scenario's bodies, hierarchies and ground truth may
+    /// take, in GiB (estimated before they are built; docs/robustness.md).
+    #[arg(long, value_name = "GIB", default_value_t = DEFAULT_BUDGET_GIB)]
+    pub memory_budget: f64,
 }
 
 pub fn compare(mut args: CompareArgs) -> anyhow::Result<String> {
@@ -37,6 +41,7 @@ pub fn compare(mut args: CompareArgs) -> anyhow::Result<String> {
             no_truth: false,
             dump_frame: None,
             threads: args.threads,
+            memory_budget: args.memory_budget,
             style: if args.markdown {
                 Style::Markdown
             } else {

@@ -18,13 +18,30 @@ use cornertree::record::target::RecordingTarget;
 use cornertree::record::world_recorder;
 use cornertree::record::{RecordOptions, RunRecorder, SceneInfo, WorldRecorder};
 use cornertree::report::run::TruthRecord;
-use cornertree::report::run::{FrameRecord, MethodRun, Summary, SummaryTable, WorldFrameRecord};
-use cornertree::scenario::{Resolved, open_scenario_with, scenario_name};
+use cornertree::report::run::{
+    FrameRecord, MethodRun, Summary, SummaryBuilder, SummaryTable, WorldFrameRecord,
+};
+use cornertree::scenario::budget::RunBudget;
+use cornertree::scenario::ranges::MAX_FRAMES;
+use cornertree::scenario::{Resolved, RunLimits, open_scenario_within, scenario_name};
 use cornertree::truth::WorldTruth;
 use cornertree::truth::{FrameTruth, MethodContext};
 use cornertree::world::World;
 
 use super::args::ScenarioArgs;
+
+/// `--memory-budget` by default: [`RunLimits::default`] in GiB.
+pub const DEFAULT_BUDGET_GIB: f64 = 4.0;
+
+/// `--memory-budget` as limits.
+fn run_limits(gib: f64) -> anyhow::Result<RunLimits> {
+    if !(gib.is_finite() && gib > 0.0 && gib <= 1e6) {
+        anyhow::bail!("--memory-budget: must be GiB from above 0 to 1e6, not {gib}");
+    }
+    Ok(RunLimits {
+        max_bytes: (gib * f64::from(1u32 << 30)) as usize,
+    })
+}
 
 /// One method's recording: of one character in a room, or of a world.
 enum Recorder {
@@ -63,6 +80,8 @@ pub struct PlayArgs {
     pub dump_frame: Option<Vec<String>>,
     pub threads: usize,
     pub style: Style,
+    /// `--memory-budget`, GiB.
+    pub memory_budget: f64,
 }
 
 /// How the summary table is printed.
@@ -143,11 +162,20 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     // Everything that can be wrong with the input fails here, before any file
     // is created.
     let style = args.style;
-    let mut resolved = open_scenario_with(&args.common.scenario, |s| {
+    let limits = run_limits(args.memory_budget)?;
+    if let Some(f) = args.common.frames
+        && f > MAX_FRAMES
+    {
+        anyhow::bail!("--frames: must be a whole number from 1 to {MAX_FRAMES}, not {f}");
+    }
+    let mut resolved = open_scenario_within(&args.common.scenario, &limits, |s| {
         if let Some(model) = args.skinning {
             for c in &mut s.characters {
                 c.character.skinning = model;
             }
+        }
+        if !args.common.methods.is_empty() {
+            s.methods = args.common.methods.clone();
         }
     })?;
     args.common.apply(&mut resolved, None);
@@ -155,6 +183,24 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     target.check(resolved.methods.len())?;
     let frames = args.common.frames.map_or(resolved.frames(), |f| f as usize);
     resolved.frames = frames;
+    if args.common.json.is_some() {
+        // The JSON report keeps every frame's record (pairs come on top).
+        let mut budget = RunBudget::new(&limits);
+        let charged = budget.charge(Some(resolved.estimated_bytes), String::new);
+        let records = frames
+            .checked_mul(resolved.methods.len())
+            .and_then(|n| n.checked_mul(std::mem::size_of::<FrameRecord>()));
+        charged
+            .and_then(|()| {
+                budget.charge(records, || {
+                    format!(
+                        "--json: the report of {frames} frames of {} methods",
+                        resolved.methods.len()
+                    )
+                })
+            })
+            .map_err(|e| anyhow::anyhow!("{}: frames: {e}", args.common.scenario.display()))?;
+    }
     let dump = match &args.dump_frame {
         Some(_) if is_world => anyhow::bail!(
             "--dump-frame: only for a scenario with one character and no moving objects"
@@ -300,6 +346,9 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         }
     }
 
+    // Per-frame records are summed as they come; they are kept only for the
+    // JSON report, so a long run's memory stays flat.
+    let keep_frames = args.common.json.is_some();
     let mut runs: Vec<MethodRun> = world
         .methods
         .iter_mut()
@@ -312,8 +361,12 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
             } else {
                 m.pipeline(0).hierarchy_bytes()
             },
-            frames: Vec::with_capacity(frames),
+            frames: Vec::new(),
         })
+        .collect();
+    let mut summing: Vec<SummaryBuilder> = runs
+        .iter()
+        .map(|r| SummaryBuilder::new(r.method, r.hierarchy_bytes))
         .collect();
     let interrupted = interrupt_flag();
     progress.set_message("");
@@ -332,6 +385,13 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         // dump, when any of them is on (not part of any method's time:
         // methods skin only what they test).
         world.pose(k);
+        if let Some((c, reach)) = world.out_of_range() {
+            discard(&created);
+            anyhow::bail!(
+                "{}",
+                pose_out_of_range(&args.common.scenario, &world.scene, c, reach, k)
+            );
+        }
         let dumped = dump.as_ref().is_some_and(|(dk, _)| *dk == k);
         if truth.is_some()
             || world_truth.is_some()
@@ -404,7 +464,10 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                 }
                 None => None,
             };
-            runs[i].frames.push(record);
+            summing[i].add(&record);
+            if keep_frames {
+                runs[i].frames.push(record);
+            }
             if let Some(rec) = &mut recorders[i] {
                 // Written to disk every frame: a killed run leaves a recording
                 // of every frame before the kill.
@@ -482,7 +545,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         }
     }
 
-    let summaries: Vec<Summary> = runs.iter().map(MethodRun::summary).collect();
+    let summaries: Vec<Summary> = summing.iter().map(SummaryBuilder::summary).collect();
     if let Some(path) = &args.common.json {
         let text = match runs.as_slice() {
             [one] => serde_json::to_string(one)?,
@@ -556,7 +619,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         Style::Markdown => SummaryTable(&summaries).markdown(),
     };
     if is_world {
-        out += &world_kind_table(&runs, world_truth.is_some());
+        out += &world_kind_table(&summing, world_truth.is_some());
     }
     out += &format!(
         "{played} frames, {} methods in {:.1} s (hierarchies, frames{})\n",
@@ -590,36 +653,51 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
 
 /// Per pair kind: each method's pairs over the run and, with the truth,
 /// precision and recall.
-fn world_kind_table(runs: &[MethodRun], with_truth: bool) -> String {
+fn world_kind_table(runs: &[SummaryBuilder], with_truth: bool) -> String {
     use cornertree::world::PairKind;
     let mut out = String::from(
         "per pair kind (pairs over the run; precision / recall against the exact pairs):\n",
     );
     for r in runs {
-        out += &format!("  {:32}", r.method.name());
+        out += &format!("  {:32}", r.method().name());
         for kind in PairKind::ALL {
-            let (mut pairs, mut acc) = (0u64, cornertree::truth::Accuracy::default());
-            let mut ops = 0u64;
-            for f in &r.frames {
-                let Some(w) = &f.world else { continue };
-                pairs += w.by_kind.get(kind).pairs;
-                ops = ops.max(w.by_kind.get(kind).operations);
-                if let Some(a) = &w.accuracy_by_kind {
-                    let a = a.get(kind);
-                    acc.tp += a.tp;
-                    acc.fp += a.fp;
-                    acc.fn_ += a.fn_;
-                }
-            }
-            out += &format!(" {}: {pairs} pairs, max {ops} ops", kind.name());
+            let k = r.by_kind.get(kind);
+            out += &format!(
+                " {}: {} pairs, max {} ops",
+                kind.name(),
+                k.pairs,
+                k.max_operations
+            );
             if with_truth {
-                out += &format!(" ({:.3} / {:.3})", acc.precision(), acc.recall());
+                out += &format!(
+                    " ({:.3} / {:.3})",
+                    k.accuracy.precision(),
+                    k.accuracy.recall()
+                );
             }
             out += ";";
         }
         out += "\n";
     }
     out
+}
+
+/// The one-line refusal of a frame whose pose takes character `c` out of
+/// the coordinate range (see `World::pose`).
+pub fn pose_out_of_range(
+    scenario: &Path,
+    scene: &Resolved,
+    c: usize,
+    reach: f32,
+    k: usize,
+) -> String {
+    format!(
+        "{}: character {:?}: frame {k}: its clip takes vertices up to {} m from the origin, beyond the {} accepted for coordinates",
+        scenario.display(),
+        scene.characters[c].name,
+        cornertree::scenario::ranges::show_f32(reach),
+        cornertree::scenario::ranges::show_f32(cornertree::io::limits::MAX_COORDINATE)
+    )
 }
 
 fn file_size(path: &Path) -> String {

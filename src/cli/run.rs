@@ -8,7 +8,7 @@ use cornertree::character::SkinningModel;
 use cornertree::record::target::RecordingTarget;
 
 use super::args::ScenarioArgs;
-use super::play::{PlayArgs, Style, play};
+use super::play::{DEFAULT_BUDGET_GIB, PlayArgs, Style, play};
 
 #[derive(clap::Args)]
 pub struct RunArgs {
@@ -37,6 +37,10 @@ pub struct RunArgs {
     /// core). Counters and pairs do not depend on it.
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Most memory the scenario's bodies, hierarchies and ground truth may
+    /// take, in GiB (estimated before they are built; docs/robustness.md).
+    #[arg(long, value_name = "GIB", default_value_t = DEFAULT_BUDGET_GIB)]
+    pub memory_budget: f64,
     #[command(flatten)]
     pub rerun: rerun::clap::RerunArgs,
 }
@@ -66,6 +70,7 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
             no_truth: args.no_truth,
             dump_frame: args.dump_frame,
             threads: args.threads,
+            memory_budget: args.memory_budget,
             style: Style::Text,
         },
         target,

@@ -75,7 +75,7 @@ use crate::mesh::{TriMesh, TriangleId};
 pub use build::MAX_VERTICES;
 pub use living_room::{LIVING_ROOM_VERTICES, living_room, living_room_scaled};
 pub use museum::{MUSEUM_VERTICES, museum, museum_scaled};
-pub use scene::{SceneError, SceneReport, load_scene};
+pub use scene::{SceneError, SceneReport, load_scene, load_scene_with};
 pub use subdivide::{MAX_SUBDIVIDED_TRIANGLES, SubdivideError};
 
 /// What an object is.

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use super::{EnvObject, Environment, ObjectKind};
-use crate::io::{LoadError, LoadReport, load_static_mesh};
+use crate::io::{LoadError, LoadLimits, LoadReport, load_static_mesh_with};
 use crate::mesh::{MeshError, TriMesh};
 
 /// How many removed triangles [`SceneReport::first_degenerate`] lists.
@@ -56,7 +56,15 @@ pub fn is_degenerate(mesh: &TriMesh, t: [u32; 3]) -> bool {
 /// removed and reported. A scene with no triangles, or only degenerate ones,
 /// is an error.
 pub fn load_scene(path: &Path) -> Result<(Environment, SceneReport), SceneError> {
-    let (mesh, load) = load_static_mesh(path)?;
+    load_scene_with(path, &LoadLimits::default())
+}
+
+/// [`load_scene`] within `limits`.
+pub fn load_scene_with(
+    path: &Path,
+    limits: &LoadLimits,
+) -> Result<(Environment, SceneReport), SceneError> {
+    let (mesh, load) = load_static_mesh_with(path, limits)?;
     let mut report = SceneReport {
         load,
         ..SceneReport::default()

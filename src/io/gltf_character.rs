@@ -92,9 +92,16 @@ const MATRIX_TOLERANCE: f64 = 1e-4;
 
 /// The skinned character of a glTF file's default scene. See the module docs.
 pub fn load_character(path: &Path) -> Result<(Character, LoadReport), LoadError> {
-    let limits = LoadLimits::default();
-    let bytes = read_file(path, &limits)?;
-    load_character_from(path, &bytes, &limits)
+    load_character_with(path, &LoadLimits::default())
+}
+
+/// [`load_character`] within `limits`.
+pub fn load_character_with(
+    path: &Path,
+    limits: &LoadLimits,
+) -> Result<(Character, LoadReport), LoadError> {
+    let bytes = read_file(path, limits)?;
+    load_character_from(path, &bytes, limits)
 }
 
 /// [`load_character`] of a file already read into `bytes`: `path` names it in

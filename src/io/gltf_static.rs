@@ -350,9 +350,16 @@ impl fmt::Display for SkippedChannel {
 /// Every triangle of the default scene (else the first scene, else all root
 /// nodes), node transforms applied, as one mesh. See the module docs.
 pub fn load_static_mesh(path: &Path) -> Result<(TriMesh, LoadReport), LoadError> {
-    let limits = LoadLimits::default();
-    let bytes = read_file(path, &limits)?;
-    load_static_mesh_from(path, &bytes, &limits)
+    load_static_mesh_with(path, &LoadLimits::default())
+}
+
+/// [`load_static_mesh`] within `limits`.
+pub fn load_static_mesh_with(
+    path: &Path,
+    limits: &LoadLimits,
+) -> Result<(TriMesh, LoadReport), LoadError> {
+    let bytes = read_file(path, limits)?;
+    load_static_mesh_from(path, &bytes, limits)
 }
 
 /// [`load_static_mesh`] of a file already read into `bytes`: `path` names it

@@ -20,10 +20,10 @@ pub mod limits;
 pub mod ply;
 pub mod source;
 
-pub use gltf_character::{load_character, load_character_from};
+pub use gltf_character::{load_character, load_character_from, load_character_with};
 pub use gltf_static::{
     AttachedMesh, LoadError, LoadReport, MeshRef, SkippedChannel, SkippedPrimitive,
-    load_static_mesh, load_static_mesh_from,
+    load_static_mesh, load_static_mesh_from, load_static_mesh_with,
 };
 pub use limits::LoadLimits;
 pub use source::{CharacterSource, SourceError};

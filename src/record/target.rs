@@ -92,13 +92,25 @@ impl RecordingTarget {
                         anyhow::anyhow!("{}: cannot create the directory: {e}", dir.display())
                     })?;
                 }
+                // Streamed to the file without rerun's footer: the footer
+                // indexes every chunk, and the SDK keeps that index in
+                // memory until the end, so a long run's memory would grow
+                // with its recording (docs/performance.md, "Long runs").
+                let cannot = |e: &dyn std::fmt::Display| {
+                    anyhow::anyhow!("{}: cannot write the recording: {e}", path.display())
+                };
+                let sink = rerun::sink::FileSink::with_options(
+                    &path,
+                    rerun::sink::FileSinkOptions {
+                        write_footer: false,
+                    },
+                )
+                .map_err(|e| cannot(&e))?;
                 let stream = rerun::RecordingStreamBuilder::new("cornertree")
                     .recording_name(name)
                     .with_blueprint(blueprint)
-                    .save(&path)
-                    .map_err(|e| {
-                        anyhow::anyhow!("{}: cannot write the recording: {e}", path.display())
-                    })?;
+                    .set_sinks((sink,))
+                    .map_err(|e| cannot(&e))?;
                 Ok(Some(OpenRecording {
                     stream,
                     path: Some(path),

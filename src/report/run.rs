@@ -12,7 +12,7 @@ use crate::truth::{
     Accuracy, AccuracyTotals, Classified, Disagreement, FalseNegative, FalsePositive,
     FrameAccuracy, MethodTruth,
 };
-use crate::world::{ByKind, MethodOutcome};
+use crate::world::{ByKind, MethodOutcome, PairKind};
 
 /// How many differences of each kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -234,16 +234,30 @@ pub struct Stat {
     pub mean: f64,
 }
 
-fn stat(values: impl Iterator<Item = f64>) -> Stat {
-    let (mut max, mut sum, mut n) = (0.0f64, 0.0, 0usize);
-    for v in values {
-        max = max.max(v);
-        sum += v;
-        n += 1;
+/// A [`Stat`] being gathered.
+#[derive(Clone, Copy, Debug, Default)]
+struct StatSum {
+    max: f64,
+    sum: f64,
+    n: usize,
+}
+
+impl StatSum {
+    fn add(&mut self, v: f64) {
+        self.max = self.max.max(v);
+        self.sum += v;
+        self.n += 1;
     }
-    Stat {
-        max,
-        mean: if n == 0 { 0.0 } else { sum / n as f64 },
+
+    fn stat(&self) -> Stat {
+        Stat {
+            max: self.max,
+            mean: if self.n == 0 {
+                0.0
+            } else {
+                self.sum / self.n as f64
+            },
+        }
     }
 }
 
@@ -273,50 +287,136 @@ pub struct Summary {
     pub max_false_positive_distance: Option<f64>,
 }
 
-impl MethodRun {
-    pub fn summary(&self) -> Summary {
-        let f = &self.frames;
-        Summary {
-            method: self.method,
-            frames: f.len(),
-            hierarchy_bytes: self.hierarchy_bytes,
-            sphere_sphere: stat(f.iter().map(|x| x.sphere_sphere as f64)),
-            tri_tri: stat(f.iter().map(|x| x.tri_tri as f64)),
-            plane_sphere: stat(f.iter().map(|x| x.plane_sphere as f64)),
-            operations: stat(f.iter().map(|x| x.operations as f64)),
-            refits: stat(f.iter().map(|x| x.refits as f64)),
-            time_ms: stat(f.iter().map(|x| x.time_ms)),
-            frames_with_contact: f
-                .iter()
-                .filter(|x| {
-                    !x.pairs.is_empty()
-                        || x.world.as_ref().is_some_and(|w| {
-                            w.by_kind.environment.pairs
-                                + w.by_kind.objects.pairs
-                                + w.by_kind.characters.pairs
-                                > 0
-                        })
-                })
-                .count(),
-            accuracy: self.truth_totals(|t, acc: &mut AccuracyTotals| acc.add(&t.accuracy)),
-            vs_parry: self.truth_totals(|t, d: &mut DisagreementCounts| d.add(&t.vs_parry)),
-            parry_vs_exact: self
-                .truth_totals(|t, d: &mut DisagreementCounts| d.add(&t.parry_vs_exact)),
-            max_false_positive_distance: self.truth_totals(|t, m: &mut f64| {
-                for fp in &t.false_positives {
-                    *m = m.max(fp.distance);
-                }
-            }),
+/// One pair kind over a world run: pairs, the largest frame's operations,
+/// and accuracy against the exact pairs.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct KindTotals {
+    pub pairs: u64,
+    pub max_operations: u64,
+    pub accuracy: Accuracy,
+}
+
+/// A [`Summary`] gathered frame by frame, so a long run need not keep its
+/// frames (`run` keeps them only for `--json`).
+#[derive(Clone, Debug)]
+pub struct SummaryBuilder {
+    method: Method,
+    hierarchy_bytes: usize,
+    frames: usize,
+    sphere_sphere: StatSum,
+    tri_tri: StatSum,
+    plane_sphere: StatSum,
+    operations: StatSum,
+    refits: StatSum,
+    time_ms: StatSum,
+    frames_with_contact: usize,
+    /// Whether every frame so far had a truth record.
+    all_truth: bool,
+    accuracy: AccuracyTotals,
+    vs_parry: DisagreementCounts,
+    parry_vs_exact: DisagreementCounts,
+    max_false_positive_distance: f64,
+    /// Per pair kind (world frames).
+    pub by_kind: ByKind<KindTotals>,
+}
+
+impl SummaryBuilder {
+    pub fn new(method: Method, hierarchy_bytes: usize) -> Self {
+        Self {
+            method,
+            hierarchy_bytes,
+            frames: 0,
+            sphere_sphere: StatSum::default(),
+            tri_tri: StatSum::default(),
+            plane_sphere: StatSum::default(),
+            operations: StatSum::default(),
+            refits: StatSum::default(),
+            time_ms: StatSum::default(),
+            frames_with_contact: 0,
+            all_truth: true,
+            accuracy: AccuracyTotals::default(),
+            vs_parry: DisagreementCounts::default(),
+            parry_vs_exact: DisagreementCounts::default(),
+            max_false_positive_distance: 0.0,
+            by_kind: ByKind::default(),
         }
     }
 
-    /// Folds the frames' truth records, if every frame has one.
-    fn truth_totals<T: Default>(&self, add: impl Fn(&TruthRecord, &mut T)) -> Option<T> {
-        let mut total = T::default();
-        for f in &self.frames {
-            add(f.truth.as_ref()?, &mut total);
+    /// Adds one frame.
+    pub fn add(&mut self, x: &FrameRecord) {
+        self.frames += 1;
+        self.sphere_sphere.add(x.sphere_sphere as f64);
+        self.tri_tri.add(x.tri_tri as f64);
+        self.plane_sphere.add(x.plane_sphere as f64);
+        self.operations.add(x.operations as f64);
+        self.refits.add(x.refits as f64);
+        self.time_ms.add(x.time_ms);
+        let contact = !x.pairs.is_empty()
+            || x.world.as_ref().is_some_and(|w| {
+                w.by_kind.environment.pairs + w.by_kind.objects.pairs + w.by_kind.characters.pairs
+                    > 0
+            });
+        self.frames_with_contact += usize::from(contact);
+        match &x.truth {
+            Some(t) => {
+                self.accuracy.add(&t.accuracy);
+                self.vs_parry.add(&t.vs_parry);
+                self.parry_vs_exact.add(&t.parry_vs_exact);
+                for fp in &t.false_positives {
+                    self.max_false_positive_distance =
+                        self.max_false_positive_distance.max(fp.distance);
+                }
+            }
+            None => self.all_truth = false,
         }
-        (!self.frames.is_empty()).then_some(total)
+        if let Some(w) = &x.world {
+            for kind in PairKind::ALL {
+                let k = self.by_kind.get_mut(kind);
+                let r = w.by_kind.get(kind);
+                k.pairs += r.pairs;
+                k.max_operations = k.max_operations.max(r.operations);
+                if let Some(a) = &w.accuracy_by_kind {
+                    let a = a.get(kind);
+                    k.accuracy.tp += a.tp;
+                    k.accuracy.fp += a.fp;
+                    k.accuracy.fn_ += a.fn_;
+                }
+            }
+        }
+    }
+
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    pub fn summary(&self) -> Summary {
+        let truth = self.all_truth && self.frames > 0;
+        Summary {
+            method: self.method,
+            frames: self.frames,
+            hierarchy_bytes: self.hierarchy_bytes,
+            sphere_sphere: self.sphere_sphere.stat(),
+            tri_tri: self.tri_tri.stat(),
+            plane_sphere: self.plane_sphere.stat(),
+            operations: self.operations.stat(),
+            refits: self.refits.stat(),
+            time_ms: self.time_ms.stat(),
+            frames_with_contact: self.frames_with_contact,
+            accuracy: truth.then_some(self.accuracy),
+            vs_parry: truth.then_some(self.vs_parry),
+            parry_vs_exact: truth.then_some(self.parry_vs_exact),
+            max_false_positive_distance: truth.then_some(self.max_false_positive_distance),
+        }
+    }
+}
+
+impl MethodRun {
+    pub fn summary(&self) -> Summary {
+        let mut b = SummaryBuilder::new(self.method, self.hierarchy_bytes);
+        for f in &self.frames {
+            b.add(f);
+        }
+        b.summary()
     }
 }
 

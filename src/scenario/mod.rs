@@ -5,13 +5,18 @@
 //! | file | what |
 //! |---|---|
 //! | `mod.rs` | [`Scenario`], its sections, [`load_scenario`], [`ScenarioError`] |
+//! | [`objects`] | `[[objects]]`: shapes and motions of moving bodies |
+//! | [`ranges`] | the valid range of every number, checked here at load |
+//! | [`budget`] | [`RunLimits`]: bytes a run may allocate; sizes charged before they are allocated |
 //! | [`resolve`](mod@resolve) | [`resolve()`]: character, room, clip, frame times, and per-frame placement ([`Resolved`]); the "gap" placement of §6's extreme conditions |
 //!
 //! Every error is one line: `file:line:column: field: problem`, the line and
 //! column when the TOML parser reports a span (its own errors quote the
 //! offending line instead of a field). Nothing here panics on bad input.
 
+pub mod budget;
 pub mod objects;
+pub mod ranges;
 pub mod resolve;
 
 use std::fmt;
@@ -26,8 +31,9 @@ use crate::geometry::Real;
 use crate::io::CharacterSource;
 use crate::pipeline::{DEFAULT_THRESHOLD, Method};
 
+pub use budget::RunLimits;
 pub use objects::{ObjectEntry, ObjectShape};
-pub use resolve::{Actor, GapReport, PlacementPlan, Prop, Resolved, resolve};
+pub use resolve::{Actor, GapReport, PlacementPlan, Prop, Resolved, resolve, resolve_with};
 
 /// A scenario as read from a file; asset paths are as found on disk (see
 /// [`load_scenario`]).
@@ -135,46 +141,38 @@ pub enum Placement {
 }
 
 /// A rigid transform: yaw about +Y, then translation.
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Transform {
     pub translation: [Real; 3],
-    #[serde(default)]
     pub yaw_degrees: Real,
 }
 
 /// Waypoints (positions of the character's origin) walked at `speed` m/s.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct WalkPath {
     pub waypoints: Vec<[Real; 3]>,
-    #[serde(default = "default_speed")]
     pub speed: Real,
 }
 
 /// "Keep a gap of `metres` from `surface` over the whole clip". A negative gap
 /// is allowed on purpose: the character then penetrates the surface by that
 /// much at its deepest (the `touching` scenario).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Gap {
     /// Object name in the environment (e.g. `"south wall"`).
     pub surface: String,
     pub metres: Real,
     /// World yaw of the character; default: its +Z (forward) along the surface.
-    #[serde(default)]
     pub yaw_degrees: Option<Real>,
     /// Metres from the surface's middle along it (horizontally on a wall),
     /// where the character's extent over the clip is centred; default 0.
-    #[serde(default)]
     pub along: Real,
 }
 
 /// One entry of `[environment] subdivide`: an object's triangles split
 /// four-way at their edge midpoints `times` times (an experiment on how big
 /// surfaces are tessellated; docs/results.md).
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct SubdivideObject {
     /// Object name in the environment (e.g. `"south wall"`).
     pub object: String,
@@ -182,18 +180,14 @@ pub struct SubdivideObject {
 }
 
 /// `[recording]`: what `run` puts in its recordings (docs/recordings.md).
-#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Recording {
     /// Every sphere of every level, not only those the traversal reached.
-    #[serde(default)]
     pub all_spheres: bool,
     /// The character's mesh every this many frames.
-    #[serde(default = "one")]
     pub mesh_every: u32,
     /// Spheres and sub-triangles every this many frames (counters, pairs and
     /// the skeleton are logged every frame).
-    #[serde(default = "one")]
     pub spheres_every: u32,
 }
 
@@ -207,12 +201,8 @@ impl Default for Recording {
     }
 }
 
-fn default_speed() -> Real {
-    1.2
-}
-fn one() -> u32 {
-    1
-}
+/// Walking speed when a path gives none, m/s.
+const DEFAULT_SPEED: f64 = 1.2;
 
 /// A line and column (both from 1) in a scenario file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -312,7 +302,7 @@ struct RawScenario {
     dedup: Option<bool>,
     threshold: Option<Spanned<f64>>,
     #[serde(default)]
-    recording: Option<Spanned<Recording>>,
+    recording: Option<RawRecording>,
 }
 
 #[derive(Deserialize)]
@@ -356,17 +346,55 @@ struct RawEnvironment {
     vertices: Option<Spanned<i64>>,
     path: Option<Spanned<String>>,
     #[serde(default)]
-    subdivide: Vec<SubdivideObject>,
+    subdivide: Vec<RawSubdivide>,
     #[serde(default)]
     doors: Doors,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
+struct RawRecording {
+    all_spheres: Option<bool>,
+    mesh_every: Option<Spanned<i64>>,
+    spheres_every: Option<Spanned<i64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSubdivide {
+    object: String,
+    times: Spanned<i64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 struct RawPlacement {
-    start: Option<Transform>,
-    path: Option<Spanned<WalkPath>>,
-    gap: Option<Spanned<Gap>>,
+    start: Option<Spanned<RawTransform>>,
+    path: Option<Spanned<RawWalkPath>>,
+    gap: Option<Spanned<RawGap>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawTransform {
+    translation: Spanned<[f64; 3]>,
+    yaw_degrees: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawWalkPath {
+    waypoints: Spanned<Vec<[f64; 3]>>,
+    speed: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawGap {
+    surface: String,
+    metres: Spanned<f64>,
+    yaw_degrees: Option<Spanned<f64>>,
+    along: Option<Spanned<f64>>,
 }
 
 impl Scenario {
@@ -429,12 +457,17 @@ impl Scenario {
                         "with [[characters]], each character has its own placement".into(),
                     ));
                 }
-                if list.is_empty() {
+                if list.is_empty() || list.len() > ranges::MAX_CHARACTERS {
                     return Err(ScenarioError::new(
                         file,
-                        None,
+                        list.get(ranges::MAX_CHARACTERS)
+                            .map(|c| locate(text, c.span().start)),
                         Some("characters"),
-                        "needs at least one character",
+                        format!(
+                            "needs 1 to {} characters, not {}",
+                            ranges::MAX_CHARACTERS,
+                            list.len()
+                        ),
                     ));
                 }
                 let mut out: Vec<CharacterEntry> = Vec::with_capacity(list.len());
@@ -466,16 +499,9 @@ impl Scenario {
                         placement(text, file, &format!("{prefix}.placement"), e.placement)?;
                     let clip_offset = match e.clip_offset {
                         None => 0.0,
-                        Some(o) if o.get_ref().is_finite() && o.get_ref().abs() <= 1e6 => {
-                            *o.get_ref() as Real
-                        }
-                        Some(o) => {
-                            return Err(err_at(
-                                o.span(),
-                                &format!("{prefix}.clip_offset"),
-                                format!("must be finite seconds within ±1e6, not {}", o.get_ref()),
-                            ));
-                        }
+                        Some(o) => ranges::within(*o.get_ref(), ranges::MAX_SECONDS, "seconds")
+                            .map_err(|m| err_at(o.span(), &format!("{prefix}.clip_offset"), m))?
+                            as Real,
                     };
                     let _ = span;
                     out.push(CharacterEntry {
@@ -510,7 +536,21 @@ impl Scenario {
         // [environment]
         let env_span = raw.environment.span();
         let env = raw.environment.into_inner();
-        let subdivide = env.subdivide.clone();
+        let mut subdivide = Vec::with_capacity(env.subdivide.len());
+        for (i, sub) in env.subdivide.iter().enumerate() {
+            let times = ranges::whole(*sub.times.get_ref(), 0, ranges::MAX_SUBDIVIDE_TIMES)
+                .map_err(|m| {
+                    err_at(
+                        sub.times.span(),
+                        &format!("environment.subdivide[{i}].times"),
+                        m,
+                    )
+                })?;
+            subdivide.push(SubdivideObject {
+                object: sub.object.clone(),
+                times: times as u32,
+            });
+        }
         let doors = env.doors;
         let environment = match env.kind {
             EnvKind::Museum | EnvKind::LivingRoom => {
@@ -524,14 +564,11 @@ impl Scenario {
                 let seed = env.seed.unwrap_or(0);
                 let vertices = match &env.vertices {
                     None => None,
-                    Some(v) if *v.get_ref() > 0 => Some(*v.get_ref() as usize),
-                    Some(v) => {
-                        return Err(err_at(
-                            v.span(),
-                            "environment.vertices",
-                            format!("must be a positive whole number, not {}", v.get_ref()),
-                        ));
-                    }
+                    Some(v) => Some(
+                        ranges::whole(*v.get_ref(), 1, crate::environment::MAX_VERTICES as i64)
+                            .map_err(|m| err_at(v.span(), "environment.vertices", m))?
+                            as usize,
+                    ),
                 };
                 if env.kind == EnvKind::Museum {
                     EnvironmentSection::Museum { seed, vertices }
@@ -570,25 +607,20 @@ impl Scenario {
 
         // Scalars.
         let frames = match raw.frames {
-            Some(f) if *f.get_ref() <= 0 => {
-                return Err(err_at(
-                    f.span(),
-                    "frames",
-                    format!("must be a positive whole number, not {}", f.get_ref()),
-                ));
-            }
-            Some(f) => Some(*f.get_ref() as usize),
+            Some(f) => Some(
+                ranges::whole(*f.get_ref(), 1, ranges::MAX_FRAMES as i64)
+                    .map_err(|m| err_at(f.span(), "frames", m))? as usize,
+            ),
             None => None,
         };
         let fps = match raw.fps {
-            Some(f) if !(f.get_ref().is_finite() && *f.get_ref() > 0.0) => {
-                return Err(err_at(
-                    f.span(),
-                    "fps",
-                    format!("must be positive, not {}", f.get_ref()),
-                ));
-            }
-            Some(f) => *f.get_ref() as Real,
+            Some(f) => ranges::between(
+                *f.get_ref(),
+                ranges::MIN_FPS,
+                ranges::MAX_FPS,
+                "frames per second",
+            )
+            .map_err(|m| err_at(f.span(), "fps", m))? as Real,
             None => 30.0,
         };
         let methods = match raw.methods {
@@ -602,30 +634,47 @@ impl Scenario {
                     ),
                 ));
             }
-            Some(m) => m.into_inner(),
+            Some(m) => {
+                let list = m.get_ref();
+                if let Some((i, twice)) = list
+                    .iter()
+                    .enumerate()
+                    .find(|(i, a)| list[..*i].contains(a))
+                {
+                    return Err(err_at(
+                        m.span(),
+                        "methods",
+                        format!("{} is listed twice (methods[{i}])", twice.name()),
+                    ));
+                }
+                m.into_inner()
+            }
             None => Method::ALL.to_vec(),
         };
         let threshold = match raw.threshold {
-            Some(t) if !(t.get_ref().is_finite() && *t.get_ref() > 0.0) => {
-                return Err(err_at(
-                    t.span(),
-                    "threshold",
-                    format!("must be positive metres, not {}", t.get_ref()),
-                ));
-            }
-            Some(t) => *t.get_ref() as Real,
+            Some(t) => ranges::between(
+                *t.get_ref(),
+                ranges::MIN_THRESHOLD,
+                ranges::MAX_THRESHOLD,
+                "metres",
+            )
+            .map_err(|m| err_at(t.span(), "threshold", m))? as Real,
             None => DEFAULT_THRESHOLD,
         };
         let recording = match raw.recording {
-            Some(r) if r.get_ref().mesh_every == 0 || r.get_ref().spheres_every == 0 => {
-                let field = if r.get_ref().mesh_every == 0 {
-                    "recording.mesh_every"
-                } else {
-                    "recording.spheres_every"
+            Some(r) => {
+                let every = |v: &Option<Spanned<i64>>, field: &str| match v {
+                    None => Ok(1),
+                    Some(v) => ranges::whole(*v.get_ref(), 1, i64::from(u32::MAX))
+                        .map(|n| n as u32)
+                        .map_err(|m| err_at(v.span(), field, m)),
                 };
-                return Err(err_at(r.span(), field, "must be at least 1".into()));
+                Recording {
+                    all_spheres: r.all_spheres.unwrap_or(false),
+                    mesh_every: every(&r.mesh_every, "recording.mesh_every")?,
+                    spheres_every: every(&r.spheres_every, "recording.spheres_every")?,
+                }
             }
-            Some(r) => r.into_inner(),
             None => Recording::default(),
         };
 
@@ -648,8 +697,25 @@ impl Scenario {
 
 /// Reads, parses and checks a scenario file (see [`Scenario::parse`]).
 pub fn load_scenario(path: &Path) -> Result<Scenario, ScenarioError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| ScenarioError::new(path, None, None, e.to_string()))?;
+    use std::io::Read;
+    let fail = |e: String| ScenarioError::new(path, None, None, e);
+    let file = std::fs::File::open(path).map_err(|e| fail(e.to_string()))?;
+    let mut bytes = Vec::new();
+    file.take(ranges::MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| fail(e.to_string()))?;
+    if bytes.len() as u64 > ranges::MAX_FILE_BYTES {
+        return Err(fail(format!(
+            "larger than the {} bytes a scenario file may have",
+            ranges::MAX_FILE_BYTES
+        )));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        fail(format!(
+            "not UTF-8 text (byte {})",
+            e.utf8_error().valid_up_to()
+        ))
+    })?;
     Scenario::parse(&text, path)
 }
 
@@ -666,10 +732,19 @@ pub fn open_scenario_with(
     path: &Path,
     edit: impl FnOnce(&mut Scenario),
 ) -> Result<Resolved, ScenarioError> {
+    open_scenario_within(path, &RunLimits::default(), edit)
+}
+
+/// [`open_scenario_with`] within `limits` (see [`resolve_with`]).
+pub fn open_scenario_within(
+    path: &Path,
+    limits: &RunLimits,
+    edit: impl FnOnce(&mut Scenario),
+) -> Result<Resolved, ScenarioError> {
     let mut scenario = load_scenario(path)?;
     edit(&mut scenario);
     let base_dir = path.parent().map(PathBuf::from).unwrap_or_default();
-    resolve(&scenario, &base_dir)
+    resolve_with(&scenario, &base_dir, limits)
 }
 
 /// A scenario's name in reports and recording file names: its file stem.
@@ -726,9 +801,23 @@ fn character_section(
         .get_ref()
         .parse()
         .map_err(|e: crate::io::SourceError| err_at(src.span(), e.to_string()))?;
-    if let CharacterSource::File(p) = &source {
-        let found = find_asset(base, p).ok_or_else(|| err_at(src.span(), missing(base, p)))?;
-        source = CharacterSource::File(found);
+    match &source {
+        CharacterSource::File(p) => {
+            let found = find_asset(base, p).ok_or_else(|| err_at(src.span(), missing(base, p)))?;
+            source = CharacterSource::File(found);
+        }
+        CharacterSource::Humanoid(h) => {
+            use crate::character::humanoid::{MAX_VERTICES, MIN_VERTICES};
+            if !(MIN_VERTICES..=MAX_VERTICES).contains(&h.vertices) {
+                return Err(err_at(
+                    src.span(),
+                    format!(
+                        "vertices must be a whole number from {MIN_VERTICES} to {MAX_VERTICES}, not {}",
+                        h.vertices
+                    ),
+                ));
+            }
+        }
     }
     Ok(CharacterSection {
         source,
@@ -762,64 +851,80 @@ fn placement(
         ));
     }
     let mut surface_at = None;
+    let metres = |v: &Spanned<f64>, field: &str| {
+        ranges::within(*v.get_ref(), ranges::MAX_METRES, "metres")
+            .map(|v| v as Real)
+            .map_err(|m| err_at(v.span(), &f(field), m))
+    };
+    let degrees = |v: &Spanned<f64>, field: &str| {
+        ranges::within(*v.get_ref(), ranges::MAX_DEGREES, "degrees")
+            .map(|v| v as Real)
+            .map_err(|m| err_at(v.span(), &f(field), m))
+    };
     let placement = if let Some(t) = pl.start {
-        if !t
-            .translation
-            .iter()
-            .chain([&t.yaw_degrees])
-            .all(|v| v.is_finite())
-        {
-            return Err(err_at(
-                pl_span,
-                &f(".start"),
-                "translation and yaw must be finite".into(),
-            ));
+        let t = t.into_inner();
+        let span = t.translation.span();
+        let mut translation = [0.0; 3];
+        for (out, &v) in translation.iter_mut().zip(t.translation.get_ref()) {
+            *out = metres(&Spanned::new(span.clone(), v), ".start.translation")?;
         }
-        Placement::Start(t)
+        let yaw_degrees = match &t.yaw_degrees {
+            Some(y) => degrees(y, ".start.yaw_degrees")?,
+            None => 0.0,
+        };
+        Placement::Start(Transform {
+            translation,
+            yaw_degrees,
+        })
     } else if let Some(p) = pl.path {
         let span = p.span();
         let w = p.into_inner();
-        if w.waypoints.is_empty() {
+        if w.waypoints.get_ref().is_empty() {
             return Err(err_at(
                 span,
                 &f(".path.waypoints"),
                 "needs at least one waypoint".into(),
             ));
         }
-        if !w.waypoints.iter().flatten().all(|v| v.is_finite()) {
-            return Err(err_at(
-                span,
-                &f(".path.waypoints"),
-                "coordinates must be finite".into(),
-            ));
+        let at = w.waypoints.span();
+        let mut waypoints = Vec::with_capacity(w.waypoints.get_ref().len());
+        for (i, point) in w.waypoints.get_ref().iter().enumerate() {
+            let mut out = [0.0; 3];
+            for (o, &v) in out.iter_mut().zip(point) {
+                *o = metres(
+                    &Spanned::new(at.clone(), v),
+                    &format!(".path.waypoints[{i}]"),
+                )?;
+            }
+            waypoints.push(out);
         }
-        if !(w.speed.is_finite() && w.speed > 0.0) {
-            return Err(err_at(
-                span,
-                &f(".path.speed"),
-                format!("must be positive, not {}", w.speed),
-            ));
-        }
-        Placement::Path(w)
+        let speed = match &w.speed {
+            Some(v) => ranges::above_zero(*v.get_ref(), ranges::MAX_SPEED, "m/s")
+                .map_err(|m| err_at(v.span(), &f(".path.speed"), m))?,
+            None => DEFAULT_SPEED,
+        };
+        Placement::Path(WalkPath {
+            waypoints,
+            speed: speed as Real,
+        })
     } else {
         let g = pl.gap.expect("counted above");
         let span = g.span();
         let g = g.into_inner();
-        for (field, value) in [
-            (&f(".gap.metres"), Some(g.metres)),
-            (&f(".gap.along"), Some(g.along)),
-            (&f(".gap.yaw_degrees"), g.yaw_degrees),
-        ] {
-            if value.is_some_and(|v| !v.is_finite()) {
-                return Err(err_at(
-                    span.clone(),
-                    field,
-                    "must be a finite number".into(),
-                ));
-            }
-        }
+        let gap = Gap {
+            metres: metres(&g.metres, ".gap.metres")?,
+            along: match &g.along {
+                Some(a) => metres(a, ".gap.along")?,
+                None => 0.0,
+            },
+            yaw_degrees: match &g.yaw_degrees {
+                Some(y) => Some(degrees(y, ".gap.yaw_degrees")?),
+                None => None,
+            },
+            surface: g.surface,
+        };
         surface_at = Some(locate(text, span.start));
-        Placement::Gap(g)
+        Placement::Gap(gap)
     };
     Ok((placement, surface_at))
 }

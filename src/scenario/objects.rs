@@ -11,6 +11,7 @@ use nalgebra::{Unit, Vector3};
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::ranges::{self, MAX_DEGREES, MAX_METRES, MAX_SECONDS, show};
 use super::{ScenarioError, find_asset, locate, missing};
 use crate::geometry::Real;
 use crate::world::motion::Motion;
@@ -44,9 +45,6 @@ pub const OBJECT_KINDS: [&str; 5] = ["box", "panel", "ball", "door", "gltf"];
 
 /// The largest ball subdivision (20·4⁶ = 81,920 triangles).
 pub const MAX_BALL_SUBDIVISIONS: u32 = 6;
-
-/// The largest size, coordinate or time a world accepts (metres, seconds).
-const LIMIT: f64 = 1e6;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -86,6 +84,14 @@ pub(super) fn parse_objects(
     base: &Path,
     raw: Vec<Spanned<RawObject>>,
 ) -> Result<Vec<ObjectEntry>, ScenarioError> {
+    if let Some(past) = raw.get(ranges::MAX_OBJECTS) {
+        return Err(ScenarioError::new(
+            file,
+            Some(locate(text, past.span().start)),
+            Some("objects"),
+            format!("at most {} objects, not {}", ranges::MAX_OBJECTS, raw.len()),
+        ));
+    }
     let mut out: Vec<ObjectEntry> = Vec::with_capacity(raw.len());
     for (i, entry) in raw.into_iter().enumerate() {
         let span = entry.span();
@@ -122,15 +128,9 @@ pub(super) fn parse_objects(
                     format!("a {kind} takes {n} numbers, not {}", v.len()),
                 ));
             }
-            if let Some(bad) = v
-                .iter()
-                .find(|x| !(x.is_finite() && **x > 0.0 && **x <= LIMIT))
-            {
-                return Err(at(
-                    s.span(),
-                    ".size",
-                    format!("each must be positive metres up to {LIMIT:e}, not {bad}"),
-                ));
+            for &x in v {
+                ranges::above_zero(x, MAX_METRES, "metres")
+                    .map_err(|m| at(s.span(), ".size", m))?;
             }
             Ok(v.iter().map(|&x| x as Real).collect())
         };
@@ -175,23 +175,9 @@ pub(super) fn parse_objects(
                 not_for(o.path.is_some(), path_span, ".path")?;
                 let radius = match &o.radius {
                     None => 0.15,
-                    Some(r)
-                        if r.get_ref().is_finite()
-                            && *r.get_ref() > 0.0
-                            && *r.get_ref() <= LIMIT =>
-                    {
-                        *r.get_ref() as Real
-                    }
-                    Some(r) => {
-                        return Err(at(
-                            r.span(),
-                            ".radius",
-                            format!(
-                                "must be positive metres up to {LIMIT:e}, not {}",
-                                r.get_ref()
-                            ),
-                        ));
-                    }
+                    Some(r) => ranges::above_zero(*r.get_ref(), MAX_METRES, "metres")
+                        .map_err(|m| at(r.span(), ".radius", m))?
+                        as Real,
                 };
                 let subdivisions = match &o.subdivisions {
                     None => 3,
@@ -268,13 +254,14 @@ fn motion(
     let m = m.into_inner();
     let err = |key: &str, msg: String| at(span.clone(), key, msg);
     let finite = |key: &str, values: &mut dyn Iterator<Item = f64>| {
-        for bad in values {
-            if !(bad.is_finite() && bad.abs() <= LIMIT) {
-                return Err(err(
-                    key,
-                    format!("must be finite and within ±{LIMIT:e}, not {bad}"),
-                ));
-            }
+        let (max, unit) = match key {
+            ".times" => (MAX_SECONDS, "seconds"),
+            ".degrees" | ".yaw_degrees" => (MAX_DEGREES, "degrees"),
+            ".axis" => (MAX_METRES, "numbers"),
+            _ => (MAX_METRES, "metres"),
+        };
+        for v in values {
+            ranges::within(v, max, unit).map_err(|m| err(key, m))?;
         }
         Ok(())
     };
@@ -293,8 +280,8 @@ fn motion(
                 format!(
                     "keys out of time order: times[{}] = {} after times[{k}] = {}",
                     k + 1,
-                    w[1],
-                    w[0]
+                    show(w[1]),
+                    show(w[0])
                 ),
             ));
         }
@@ -318,15 +305,16 @@ fn motion(
             }
             count(".positions", positions.len())?;
             finite(".positions", &mut positions.iter().flatten().copied())?;
-            let yaw_degrees = match m.yaw_degrees {
+            let yaw_degrees: Vec<f64> = match m.yaw_degrees {
                 None => vec![0.0; n],
-                Some(YawKeys::One(y)) => vec![y as Real; n],
+                Some(YawKeys::One(y)) => vec![y; n],
                 Some(YawKeys::PerKey(v)) => {
                     count(".yaw_degrees", v.len())?;
-                    v.iter().map(|&y| y as Real).collect()
+                    v
                 }
             };
-            finite(".yaw_degrees", &mut yaw_degrees.iter().map(|&y| y as f64))?;
+            finite(".yaw_degrees", &mut yaw_degrees.iter().copied())?;
+            let yaw_degrees = yaw_degrees.iter().map(|&y| y as Real).collect();
             Ok(Motion::Waypoints {
                 times,
                 positions: positions

@@ -19,15 +19,18 @@ use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
 
 use crate::character::{Character, Clip, JointId, PoseBuffers, SkinningModel, generate_humanoid};
 use crate::environment::{
-    Environment, living_room, living_room_scaled, load_scene, museum, museum_scaled,
+    Environment, LIVING_ROOM_VERTICES, MUSEUM_VERTICES, living_room, living_room_scaled,
+    load_scene_with, museum, museum_scaled,
 };
 use crate::geometry::Real;
-use crate::io::{CharacterSource, load_character};
+use crate::io::{CharacterSource, LoadLimits, load_character_with};
 use crate::pipeline::Method;
 use crate::pipeline::driver::{PipelineOptions, pose_frame};
 use crate::sphere_tree::BuildParams;
 
+use super::budget::{self, RunBudget, RunLimits};
 use super::objects::ObjectShape;
+use super::ranges::{self, MAX_FRAMES};
 use super::{
     CharacterEntry, Doors, EnvironmentSection, Gap, Placement, Recording, Scenario, ScenarioError,
 };
@@ -53,6 +56,9 @@ pub struct Resolved {
     pub dedup: bool,
     pub threshold: Real,
     pub recording: Recording,
+    /// Bytes the bodies, hierarchies and ground truth are estimated to take
+    /// (charged to the [`RunLimits`] they were resolved with).
+    pub estimated_bytes: usize,
 }
 
 /// One character of a world, with its clip and placement over the frames.
@@ -63,9 +69,10 @@ pub struct Actor {
     /// Index of the clip in `character.clips`; `None` for a character without clips (rest pose).
     pub clip_index: Option<usize>,
     pub skinning: SkinningModel,
-    /// Clip time (seconds) of every frame: `start + k / fps + clip_offset`,
-    /// wrapped around the clip when past its end.
-    pub times: Vec<Real>,
+    /// Seconds added to the world time before the clip is sampled.
+    pub clip_offset: Real,
+    /// Frame rate of the world's frames.
+    pub fps: Real,
     pub placement: PlacementPlan,
     /// What the gap placement achieved, for `placement.gap`.
     pub gap: Option<GapReport>,
@@ -85,15 +92,15 @@ pub enum PlacementPlan {
     /// The same transform at every frame (`start`, `gap`).
     Fixed(Isometry3<Real>),
     /// Waypoints walked at `speed` m/s from frame 0, facing the walking
-    /// direction. The path alone moves the character: `root_motion[k]`, the
-    /// clip's own horizontal travel at frame `k` (its root joint's, from the
-    /// clip's start), is taken back out, so a walk clip that moves forward
-    /// walks in place along the path.
+    /// direction. The path alone moves the character: the clip's own
+    /// horizontal travel at the frame's clip time (`root_travel`) is taken
+    /// back out, so a walk clip that moves forward walks in place along the
+    /// path.
     Walk {
         waypoints: Vec<Vector3<Real>>,
         speed: Real,
         fps: Real,
-        root_motion: Vec<Vector3<Real>>,
+        root_travel: RootTravel,
     },
 }
 
@@ -120,18 +127,18 @@ impl Actor {
         self.clip_index.map(|i| &self.character.clips[i])
     }
 
-    /// Clip time of `frame` (the last frame's time past the end).
+    /// Clip time (seconds) of `frame`: `start + frame / fps + clip_offset`,
+    /// wrapped around the clip when outside it (the clip loops).
     pub fn time_at(&self, frame: usize) -> Real {
-        self.times
-            .get(frame)
-            .or(self.times.last())
-            .copied()
-            .unwrap_or(0.0)
+        let (start, duration) = self
+            .clip()
+            .map_or((0.0, 0.0), |c| (c.start(), c.duration()));
+        clip_time(frame, self.fps, self.clip_offset, start, duration)
     }
 
     /// The character's world placement at `frame`: world = placement · model.
     pub fn placement_at(&self, frame: usize) -> Isometry3<Real> {
-        self.placement.at(frame)
+        self.placement.at(frame, self.time_at(frame))
     }
 
     /// Poses and places the character for `frame` into `buffers` (joint
@@ -183,49 +190,99 @@ impl Resolved {
 }
 
 impl PlacementPlan {
-    /// The placement at `frame`.
-    pub fn at(&self, frame: usize) -> Isometry3<Real> {
+    /// The placement at `frame`, whose clip time is `clip_time`.
+    pub fn at(&self, frame: usize, clip_time: Real) -> Isometry3<Real> {
         match self {
             PlacementPlan::Fixed(iso) => *iso,
             PlacementPlan::Walk {
                 waypoints,
                 speed,
                 fps,
-                root_motion,
+                root_travel,
             } => {
-                let back = root_motion
-                    .get(frame)
-                    .or(root_motion.last())
-                    .copied()
-                    .unwrap_or_else(Vector3::zeros);
+                let back = root_travel.at(clip_time);
                 walk_at(waypoints, speed * frame as Real / fps) * Translation3::from(-back)
             }
         }
     }
 }
 
-/// The clip's horizontal travel at each of `times`: the first root joint's
-/// position in the model frame (through the skeleton's base) minus its position at the clip's start, with
-/// the vertical part dropped. Zero without a clip.
-fn root_motion(character: &Character, clip: Option<&Clip>, times: &[Real]) -> Vec<Vector3<Real>> {
-    let Some(clip) = clip else {
-        return vec![Vector3::zeros(); times.len()];
-    };
-    let skeleton = &character.skeleton;
-    let Some(root) = (0..skeleton.len()).find(|&j| skeleton.parent(JointId(j as u16)).is_none())
-    else {
-        return vec![Vector3::zeros(); times.len()];
-    };
-    let mut local = skeleton.rest_pose();
-    let mut world = vec![Matrix4::identity(); skeleton.len()];
-    let mut at = |t: Real| {
-        clip.sample(t, skeleton.rest_pose_ref(), &mut local);
-        skeleton.world_matrices(&local, &mut world);
-        let m = world[root];
-        Vector3::new(m[(0, 3)], 0.0, m[(2, 3)])
-    };
-    let start = at(clip.start());
-    times.iter().map(|&t| at(t) - start).collect()
+/// Samples of [`RootTravel`] over one loop of a clip, at most.
+const ROOT_TRAVEL_SAMPLES: usize = 4096;
+
+/// A clip's horizontal travel over one loop: its first root joint's position
+/// (through the skeleton's base) minus the position at the clip's start,
+/// vertical part dropped, sampled evenly over the clip and interpolated
+/// linearly between samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RootTravel {
+    start: Real,
+    step: Real,
+    samples: Vec<Vector3<Real>>,
+}
+
+impl RootTravel {
+    /// No travel (no clip, no skeleton root).
+    pub fn none() -> Self {
+        Self {
+            start: 0.0,
+            step: 1.0,
+            samples: vec![Vector3::zeros()],
+        }
+    }
+
+    /// The travel of `clip` on `character`, sampled at `fps` (at most
+    /// [`ROOT_TRAVEL_SAMPLES`] samples).
+    fn of(character: &Character, clip: Option<&Clip>, fps: Real) -> Self {
+        let Some(clip) = clip else {
+            return Self::none();
+        };
+        let skeleton = &character.skeleton;
+        let Some(root) =
+            (0..skeleton.len()).find(|&j| skeleton.parent(JointId(j as u16)).is_none())
+        else {
+            return Self::none();
+        };
+        let duration = clip.duration().max(0.0);
+        let n = ((duration * fps).ceil() as usize + 1).clamp(2, ROOT_TRAVEL_SAMPLES);
+        let step = (duration / (n - 1) as Real).max(Real::MIN_POSITIVE);
+        let mut local = skeleton.rest_pose();
+        let mut world = vec![Matrix4::identity(); skeleton.len()];
+        let mut at = |t: Real| {
+            clip.sample(t, skeleton.rest_pose_ref(), &mut local);
+            skeleton.world_matrices(&local, &mut world);
+            let m = world[root];
+            Vector3::new(m[(0, 3)], 0.0, m[(2, 3)])
+        };
+        let first = at(clip.start());
+        let samples = (0..n)
+            .map(|i| at(clip.start() + i as Real * step) - first)
+            .collect();
+        Self {
+            start: clip.start(),
+            step,
+            samples,
+        }
+    }
+
+    /// The travel at clip time `t`.
+    pub fn at(&self, t: Real) -> Vector3<Real> {
+        let x = ((t - self.start) / self.step).max(0.0);
+        let i = (x.floor() as usize).min(self.samples.len() - 1);
+        let j = (i + 1).min(self.samples.len() - 1);
+        let f = (x - i as Real).clamp(0.0, 1.0);
+        self.samples[i] * (1.0 - f) + self.samples[j] * f
+    }
+}
+
+/// Clip time of `frame` at `fps`, shifted by `offset`, in a clip from
+/// `start` lasting `duration` (looped).
+fn clip_time(frame: usize, fps: Real, offset: Real, start: Real, duration: Real) -> Real {
+    let mut local = frame as Real / fps + offset;
+    if duration > 0.0 && (local > duration * (1.0 + 1e-6) || local < 0.0) {
+        local = local.rem_euclid(duration);
+    }
+    start + local
 }
 
 /// Rotation about +Y taking the character's forward (+Z) to `(sin yaw, 0, cos yaw)`.
@@ -267,31 +324,107 @@ fn asset(base: &Path, p: &Path) -> PathBuf {
 
 /// Loads the characters, the objects and the room and works out frame times
 /// and placements. Relative asset paths are looked for in `base_dir`, then as
-/// given.
+/// given. Within the default [`RunLimits`].
 pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError> {
+    resolve_with(s, base_dir, &RunLimits::default())
+}
+
+/// [`resolve`] within `limits`: each body, and every method's hierarchies and
+/// the ground truth over it, is charged to the budget before it is built
+/// (module [`super::budget`]); past the budget the scenario is refused,
+/// naming the value that drove the size.
+pub fn resolve_with(
+    s: &Scenario,
+    base_dir: &Path,
+    limits: &RunLimits,
+) -> Result<Resolved, ScenarioError> {
     let file = s.file.as_path();
     let fail = |field: &str, msg: String| ScenarioError::new(file, None, Some(field), msg);
+    let mut budget = RunBudget::new(limits);
+    let methods = s.methods.len();
+    // The ground truth holds the room once per character.
+    let bodies = s.characters.len();
+    let load_limits = |budget: &RunBudget| LoadLimits {
+        max_bytes: budget.remaining().min(LoadLimits::default().max_bytes),
+    };
+    let with_methods = if methods == 1 {
+        "1 method".to_owned()
+    } else {
+        format!("{methods} methods")
+    };
 
+    let generated_room =
+        |budget: &mut RunBudget, name: &str, given: Option<usize>, default: usize| {
+            let v = given.unwrap_or(default);
+            let bytes = budget::cost::ROOM_PER_VERTEX
+                .checked_mul(v)
+                .zip(budget::static_mesh_bytes(
+                    v.saturating_mul(budget::cost::ROOM_TRIANGLES_PER_VERTEX),
+                    methods,
+                    bodies,
+                ))
+                .and_then(|(a, b)| a.checked_add(b));
+            let field = if given.is_some() {
+                "environment.vertices"
+            } else {
+                "environment.kind"
+            };
+            budget
+                .charge(bytes, || {
+                    format!("a {name} of {v} vertices with {with_methods}' hierarchies")
+                })
+                .map_err(|m| fail(field, m))
+        };
     let environment = match &s.environment {
-        EnvironmentSection::Museum { seed, vertices } => match vertices {
-            None => museum(*seed),
-            Some(n) => {
-                museum_scaled(*seed, *n).map_err(|e| fail("environment.vertices", e.to_string()))?
+        EnvironmentSection::Museum { seed, vertices } => {
+            generated_room(&mut budget, "museum", *vertices, MUSEUM_VERTICES)?;
+            match vertices {
+                None => museum(*seed),
+                Some(n) => museum_scaled(*seed, *n)
+                    .map_err(|e| fail("environment.vertices", e.to_string()))?,
             }
-        },
-        EnvironmentSection::LivingRoom { seed, vertices } => match vertices {
-            None => living_room(*seed),
-            Some(n) => living_room_scaled(*seed, *n)
-                .map_err(|e| fail("environment.vertices", e.to_string()))?,
-        },
+        }
+        EnvironmentSection::LivingRoom { seed, vertices } => {
+            generated_room(&mut budget, "living room", *vertices, LIVING_ROOM_VERTICES)?;
+            match vertices {
+                None => living_room(*seed),
+                Some(n) => living_room_scaled(*seed, *n)
+                    .map_err(|e| fail("environment.vertices", e.to_string()))?,
+            }
+        }
         EnvironmentSection::Gltf { path } => {
-            load_scene(&asset(base_dir, path))
+            let env = load_scene_with(&asset(base_dir, path), &load_limits(&budget))
                 .map_err(|e| fail("environment.path", e.to_string()))?
-                .0
+                .0;
+            let t = env.mesh.triangle_count();
+            budget
+                .charge(budget::static_mesh_bytes(t, methods, bodies), || {
+                    format!("a scene of {t} triangles with {with_methods}' hierarchies")
+                })
+                .map_err(|m| fail("environment.path", m))?;
+            env
         }
     };
     let mut environment = environment;
-    for sub in &s.subdivide {
+    for (i, sub) in s.subdivide.iter().enumerate() {
+        if let Some(object) = environment.object(&sub.object) {
+            let n = object.triangles.len();
+            let added = 4usize
+                .checked_pow(sub.times)
+                .and_then(|f| (f - 1).checked_mul(n));
+            let field = format!("environment.subdivide[{i}].times");
+            budget
+                .charge(
+                    added.and_then(|a| budget::static_mesh_bytes(a, methods, bodies)),
+                    || {
+                        format!(
+                            "splitting {:?} ({n} triangles) {} times with {with_methods}' hierarchies",
+                            sub.object, sub.times
+                        )
+                    },
+                )
+                .map_err(|m| fail(&field, m))?;
+        }
         environment = environment
             .subdivide_object(&sub.object, sub.times)
             .map_err(|e| fail("environment.subdivide", e.to_string()))?;
@@ -303,11 +436,28 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
         let field = format!("{}.source", entry.field);
         let character = match &entry.character.source {
             CharacterSource::File(p) => {
-                load_character(&asset(base_dir, p))
+                let character = load_character_with(&asset(base_dir, p), &load_limits(&budget))
                     .map_err(|e| fail(&field, e.to_string()))?
-                    .0
+                    .0;
+                let (v, t) = (
+                    character.mesh.vertex_count(),
+                    character.mesh.triangle_count(),
+                );
+                budget
+                    .charge(budget::character_bytes(v, t, methods), || {
+                        format!("a character of {v} vertices with {with_methods}' hierarchies")
+                    })
+                    .map_err(|m| fail(&field, m))?;
+                character
             }
             CharacterSource::Humanoid(h) => {
+                let v = h.vertices;
+                budget
+                    .charge(
+                        budget::character_bytes(v, v.saturating_mul(2), methods),
+                        || format!("a humanoid of {v} vertices with {with_methods}' hierarchies"),
+                    )
+                    .map_err(|m| fail(&field, m))?;
                 generate_humanoid(h).map_err(|e| fail(&field, e.to_string()))?
             }
         };
@@ -322,30 +472,36 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
         };
         loaded.push((character, clip_index));
     }
-    let frames = s.frames.unwrap_or_else(|| {
-        loaded
-            .iter()
-            .map(|(c, i)| {
-                let duration = i.map_or(0.0, |i| c.clips[i].duration());
-                (duration * s.fps).floor() as usize + 1
-            })
-            .max()
-            .unwrap_or(1)
-    });
+    let frames = match s.frames {
+        Some(n) => n,
+        None => {
+            // Every frame of the longest clip, within the frame range.
+            let mut most = 1;
+            for (entry, (c, i)) in s.characters.iter().zip(&loaded) {
+                let duration = i.map_or(0.0, |i| c.clips[i].duration()) as f64;
+                let n = (duration * s.fps as f64).floor() + 1.0;
+                if !n.is_finite() || n > MAX_FRAMES as f64 {
+                    return Err(fail(
+                        &format!("{}.clip", entry.field),
+                        format!(
+                            "the clip lasts {} s: {} frames at {} fps, more than {MAX_FRAMES}; give frames",
+                            ranges::show(duration),
+                            ranges::show(n),
+                            s.fps
+                        ),
+                    ));
+                }
+                most = most.max(n as usize);
+            }
+            most
+        }
+    };
 
     let mut characters = Vec::with_capacity(loaded.len());
     for (entry, (character, clip_index)) in s.characters.iter().zip(loaded) {
         let clip = clip_index.map(|i| &character.clips[i]);
         let (start, duration) = clip.map_or((0.0, 0.0), |c| (c.start(), c.duration()));
-        let times: Vec<Real> = (0..frames)
-            .map(|k| {
-                let mut local = k as Real / s.fps + entry.clip_offset;
-                if duration > 0.0 && (local > duration * (1.0 + 1e-6) || local < 0.0) {
-                    local = local.rem_euclid(duration);
-                }
-                start + local
-            })
-            .collect();
+        let times = (0..frames).map(|k| clip_time(k, s.fps, entry.clip_offset, start, duration));
         let (placement, gap) = match &entry.placement {
             Placement::Start(t) => {
                 let [x, y, z] = t.translation;
@@ -366,14 +522,14 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
                         waypoints,
                         speed: w.speed,
                         fps: s.fps,
-                        root_motion: root_motion(&character, clip, &times),
+                        root_travel: RootTravel::of(&character, clip, s.fps),
                     },
                     None,
                 )
             }
             Placement::Gap(g) => {
                 let (iso, report) =
-                    place_at_gap(s, entry, &character, clip, &times, &environment, g)?;
+                    place_at_gap(s, entry, &character, clip, times, &environment, g)?;
                 (PlacementPlan::Fixed(iso), Some(report))
             }
         };
@@ -382,7 +538,8 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
             character,
             clip_index,
             skinning: entry.character.skinning,
-            times,
+            clip_offset: entry.clip_offset,
+            fps: s.fps,
             placement,
             gap,
         });
@@ -391,8 +548,14 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
     // Objects: the scenario's, then the room's doors when they swing.
     let mut objects = Vec::with_capacity(s.objects.len());
     for (i, o) in s.objects.iter().enumerate() {
-        let mesh =
-            object_mesh(&o.shape, base_dir).map_err(|e| fail(&format!("objects[{i}].path"), e))?;
+        let mesh = object_mesh(&o.shape, base_dir, &load_limits(&budget))
+            .map_err(|e| fail(&format!("objects[{i}].path"), e))?;
+        let t = mesh.triangle_count();
+        budget
+            .charge(budget::static_mesh_bytes(t, methods, bodies), || {
+                format!("an object of {t} triangles with {with_methods}' hierarchies")
+            })
+            .map_err(|m| fail(&format!("objects[{i}]"), m))?;
         objects.push(Prop {
             name: o.name.clone(),
             mesh,
@@ -417,7 +580,22 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
         }
     }
 
+    // The big triangles' divisions, in the room and in every object.
+    let nodes = std::iter::once(&environment.mesh)
+        .chain(objects.iter().map(|o| &o.mesh))
+        .map(|m| budget::division_node_count(m, &s.methods, s.threshold))
+        .fold(0u64, u64::saturating_add);
+    budget
+        .charge(budget::division_bytes(nodes), || {
+            format!(
+                "threshold = {} m: dividing the big triangles ({nodes} nodes over {with_methods})",
+                ranges::show_f32(s.threshold)
+            )
+        })
+        .map_err(|m| fail("threshold", m))?;
+
     Ok(Resolved {
+        estimated_bytes: budget.used(),
         characters,
         objects,
         environment,
@@ -431,7 +609,11 @@ pub fn resolve(s: &Scenario, base_dir: &Path) -> Result<Resolved, ScenarioError>
 }
 
 /// The mesh of a generated or loaded object, in its own frame.
-fn object_mesh(shape: &ObjectShape, base_dir: &Path) -> Result<TriMesh, String> {
+fn object_mesh(
+    shape: &ObjectShape,
+    base_dir: &Path,
+    limits: &LoadLimits,
+) -> Result<TriMesh, String> {
     Ok(match shape {
         ObjectShape::Box { size } => shapes::box_mesh(*size),
         ObjectShape::Door { size } => shapes::door_mesh(*size),
@@ -441,7 +623,7 @@ fn object_mesh(shape: &ObjectShape, base_dir: &Path) -> Result<TriMesh, String> 
             subdivisions,
         } => shapes::ball_mesh(*radius, *subdivisions),
         ObjectShape::Gltf { path } => {
-            load_scene(&asset(base_dir, path))
+            load_scene_with(&asset(base_dir, path), limits)
                 .map_err(|e| e.to_string())?
                 .0
                 .mesh
@@ -454,7 +636,7 @@ fn place_at_gap(
     entry: &CharacterEntry,
     character: &Character,
     clip: Option<&Clip>,
-    times: &[Real],
+    times: impl Iterator<Item = Real> + Clone,
     env: &Environment,
     gap: &Gap,
 ) -> Result<(Isometry3<Real>, GapReport), ScenarioError> {
@@ -527,7 +709,7 @@ fn place_at_gap(
     let mut buffers = PoseBuffers::new(character);
     let (mut dmin, mut ymin) = (f64::INFINITY, f64::INFINITY);
     let (mut tmin, mut tmax) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &time in times {
+    for time in times.clone() {
         buffers.pose(character, clip, time);
         buffers.skin_all(character, entry.character.skinning);
         for p in &buffers.positions {
@@ -567,7 +749,7 @@ fn place_at_gap(
     let mut achieved = f64::INFINITY;
     let mut closest_frame = 0;
     let mut penetrating_frames = 0;
-    for (k, &time) in times.iter().enumerate() {
+    for (k, time) in times.enumerate() {
         buffers.pose(character, clip, time);
         buffers.skin_all(character, entry.character.skinning);
         let frame_min = buffers

@@ -26,6 +26,7 @@ use rayon::prelude::*;
 
 use crate::character::PoseBuffers;
 use crate::geometry::Sphere;
+use crate::io::limits::MAX_COORDINATE;
 use crate::mesh::{EdgeDedup, dedup_edges};
 use crate::pipeline::bodies::{detect_characters, sphere_in_frame};
 use crate::pipeline::driver::{FrameCounters, Pipeline};
@@ -48,6 +49,11 @@ pub struct World {
     pub object_poses: Vec<Isometry3<f32>>,
     /// Milliseconds spent posing every character this frame.
     pub pose_ms: f64,
+    /// Each character's bind vertices' largest distance from its origin.
+    bind_reach: Vec<f32>,
+    /// A character posed beyond [`MAX_COORDINATE`] this frame, and how far
+    /// (the frame is then not detected).
+    out_of_range: Option<(usize, f32)>,
     /// The next frame to play.
     next: usize,
     pool: Arc<rayon::ThreadPool>,
@@ -131,12 +137,26 @@ impl World {
             .map(|a| PoseBuffers::new(&a.character))
             .collect();
         let object_poses = vec![Isometry3::identity(); scene.objects.len()];
+        let bind_reach = scene
+            .characters
+            .iter()
+            .map(|a| {
+                a.character
+                    .mesh
+                    .positions()
+                    .iter()
+                    .map(|p| p.coords.norm())
+                    .fold(0.0, f32::max)
+            })
+            .collect();
         Ok(Self {
             scene,
             methods,
             buffers,
             object_poses,
             pose_ms: 0.0,
+            bind_reach,
+            out_of_range: None,
             next: 0,
             pool,
             serial,
@@ -186,10 +206,24 @@ impl World {
     }
 
     /// Poses every body for frame `k` (joint matrices and object poses).
+    /// A character whose pose takes a vertex beyond [`MAX_COORDINATE`] (a
+    /// clip with absurd keyframes) is noted ([`World::out_of_range`]) and the
+    /// frame is not detected: such coordinates overflow squared distances.
     pub fn pose(&mut self, k: usize) {
         let t0 = Instant::now();
-        for (a, b) in self.scene.characters.iter().zip(&mut self.buffers) {
+        self.out_of_range = None;
+        for (i, (a, b)) in self
+            .scene
+            .characters
+            .iter()
+            .zip(&mut self.buffers)
+            .enumerate()
+        {
             a.pose_frame(b, k);
+            let reach = b.reach(self.bind_reach[i]);
+            if !(reach.is_finite() && reach <= MAX_COORDINATE) && self.out_of_range.is_none() {
+                self.out_of_range = Some((i, reach));
+            }
         }
         let t = self.scene.world_time(k);
         for (o, p) in self.scene.objects.iter().zip(&mut self.object_poses) {
@@ -226,7 +260,14 @@ impl World {
         }
     }
 
-    /// Runs method `m` (an index into `methods`) on the current pose.
+    /// The first character posed out of range this frame, and how far its
+    /// vertices may reach from the origin (see [`World::pose`]).
+    pub fn out_of_range(&self) -> Option<(usize, f32)> {
+        self.out_of_range
+    }
+
+    /// Runs method `m` (an index into `methods`) on the current pose (not
+    /// when a character is posed out of range: the outcome is then empty).
     pub fn detect_method(&mut self, m: usize) {
         self.detect_method_in(m, false);
     }
@@ -238,6 +279,14 @@ impl World {
     }
 
     fn detect_method_in(&mut self, m: usize, one_thread: bool) {
+        if self.out_of_range.is_some() {
+            let mw = &mut self.methods[m];
+            mw.outcome = MethodOutcome {
+                method: Some(mw.method),
+                ..MethodOutcome::default()
+            };
+            return;
+        }
         let World {
             scene,
             methods,
