@@ -16,8 +16,14 @@ pub struct Rrd {
     pub error: Option<String>,
 }
 
+/// Reads what `path` holds when called: a recording still being written
+/// grows faster than an unoptimised decoder reads, so it is read up to its
+/// length at the start, not to an end that keeps moving.
 pub fn read_rrd(path: &Path) -> Rrd {
+    use std::io::Read;
     let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let len = file.metadata().map(|m| m.len()).unwrap_or(u64::MAX);
+    let file = file.take(len);
     let mut rrd = Rrd {
         chunks: Vec::new(),
         has_blueprint: false,
