@@ -81,9 +81,12 @@ impl Stats {
     }
 }
 
-fn scratch(loader: Loader) -> std::path::PathBuf {
+/// A scratch folder per test (`purpose`) and loader: tests of this binary
+/// run at once, and a `.gltf` seed's `.bin` written by one must not be
+/// overwritten by another's mutation.
+fn scratch(loader: Loader, purpose: &str) -> std::path::PathBuf {
     let dir = std::env::temp_dir().join(format!(
-        "cornertree-fuzz-{}-{}",
+        "cornertree-fuzz-{}-{}-{purpose}",
         std::process::id(),
         loader.name()
     ));
@@ -96,7 +99,7 @@ fn scratch(loader: Loader) -> std::path::PathBuf {
 fn fuzz(loader: Loader, cases: u32, rng_seed: u64, weights: &[u32; 4]) {
     check::start_watchdog();
     let seeds = seeds::all();
-    let dir = scratch(loader);
+    let dir = scratch(loader, "fuzz");
     let stats = RefCell::new(Stats::default());
     let config = Config {
         cases,
@@ -223,7 +226,7 @@ fn fuzz_character_loader_long() {
 /// The seeds load and animate unmutated, so mutations start from good files.
 #[test]
 fn seeds_load_and_animate() {
-    let dir = scratch(Loader::Character);
+    let dir = scratch(Loader::Character, "seeds");
     for seed in seeds::all() {
         let files = mutate::apply(
             &seed,
@@ -265,7 +268,7 @@ fn saved_failures_stay_fixed() {
             };
             let bin = std::fs::read(dir.join(seeds::BIN_NAME)).ok();
             let files = Files { main, bin };
-            let scratch_dir = scratch(Loader::Static).join(replay_name(&dir));
+            let scratch_dir = scratch(Loader::Static, "replay").join(replay_name(&dir));
             std::fs::create_dir_all(&scratch_dir).unwrap();
             for loader in [Loader::Static, Loader::Character] {
                 for paper in [false, true] {
