@@ -52,8 +52,17 @@ fn check(name: &str) {
                 pairs.len().to_string(),
                 format!("{:016x}", fnv(&pairs)),
             ];
+            let mut want = want[2..9].to_vec();
+            if m.method.tests_each_pair_once() {
+                // Since the fixtures were written, this method tests each
+                // (triangle, big triangle) pair once rather than once per
+                // division leaf: never more tests, everything else the same.
+                let (w, g): (u64, u64) = (want[1].parse().unwrap(), got[1].parse().unwrap());
+                assert!(g <= w, "{name}, {} frame {k}: {g} > {w} tri-tri", m.method);
+                want[1] = got[1].clone();
+            }
             assert_eq!(
-                &want[2..9],
+                &want[..],
                 &got[..],
                 "{name}, {} frame {k}: ss tt ps refits skinned pairs hash",
                 m.method

@@ -55,6 +55,11 @@ pub struct Bench {
     pub environment_vertices: usize,
     /// Vertices of every character together.
     pub vertices: usize,
+    /// The first character's gap to its surface, as asked (`placement.gap`).
+    pub gap_metres: Option<f32>,
+    /// The least signed distance of its vertices to that surface's plane
+    /// over the clip (negative: that deep behind it).
+    pub deepest_metres: Option<f32>,
     pub parry_ms_per_frame: f64,
     /// Leaf pairs parry's traversals yielded per frame (mean).
     pub parry_candidates_per_frame: f64,
@@ -186,6 +191,16 @@ pub fn measure(
             .iter()
             .map(|a| a.character.mesh.positions().len())
             .sum(),
+        gap_metres: scene
+            .characters
+            .first()
+            .and_then(|a| a.gap.as_ref())
+            .map(|g| g.metres),
+        deepest_metres: scene
+            .characters
+            .first()
+            .and_then(|a| a.gap.as_ref())
+            .map(|g| g.achieved),
         parry_ms_per_frame: parry_median,
         parry_candidates_per_frame: per_frame(parry_candidates),
         pose_ms_per_frame: median(&mut pose_ms),

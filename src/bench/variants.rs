@@ -1,6 +1,6 @@
 //! Scenario variants of the scaling studies: a base scenario with another
-//! character size, another room size, or a crowd of a given number of
-//! generated humanoids.
+//! character size, another room size, a crowd of a given number of
+//! generated humanoids, or its character at another gap to a surface.
 
 use std::path::Path;
 
@@ -8,7 +8,7 @@ use crate::character::HumanoidParams;
 use crate::geometry::bounds_of;
 use crate::io::CharacterSource;
 use crate::scenario::{
-    CharacterEntry, CharacterSection, EnvironmentSection, Placement, Resolved, Scenario,
+    CharacterEntry, CharacterSection, EnvironmentSection, Gap, Placement, Resolved, Scenario,
     ScenarioError, WalkPath, resolve,
 };
 
@@ -52,6 +52,30 @@ pub fn sized(
                      \"living-room\"), not a glTF scene",
                 ));
             }
+        }
+    }
+    resolve(&s, base_dir(base))
+}
+
+/// Surface of the contact sweep when the base scenario keeps no gap.
+pub const SWEEP_SURFACE: &str = "south wall";
+
+/// The base scenario `s` (read from `base`) with its first character kept
+/// `metres` from its gap surface over the clip (negative: that deep into
+/// it at the deepest), everything else as in the base: the contact sweep.
+/// A base placed otherwise gets a gap to [`SWEEP_SURFACE`].
+pub fn at_gap(base: &Path, s: &Scenario, metres: f32) -> Result<Resolved, ScenarioError> {
+    let mut s = s.clone();
+    let first = s.first_character_mut();
+    match &mut first.placement {
+        Placement::Gap(g) => g.metres = metres,
+        other => {
+            *other = Placement::Gap(Gap {
+                surface: SWEEP_SURFACE.into(),
+                metres,
+                yaw_degrees: None,
+                along: 0.0,
+            })
         }
     }
     resolve(&s, base_dir(base))

@@ -1,5 +1,5 @@
-//! `cornertree scaling`: cost per frame against character size, room size and
-//! the number of characters (docs/performance.md), each configuration
+//! `cornertree scaling`: cost per frame against character size, room size,
+//! the number of characters and the depth of contact (docs/performance.md), each configuration
 //! measured as `bench` measures (command-line plumbing; the variants are
 //! [`cornertree::bench::variants`]).
 
@@ -16,6 +16,11 @@ use super::bench::{measure_with_progress, progress_bar};
 const CHARACTER_VERTICES: [usize; 4] = [3_000, 10_000, 44_345, 100_000];
 /// Environment sizes: about 10k, 133k (the paper's living room) and 500k.
 const ENVIRONMENT_VERTICES: [usize; 3] = [10_000, 133_139, 500_000];
+/// Gaps of the contact sweep (metres): from a near miss 5 cm away to 5 cm
+/// deep, a centimetre apart.
+const CONTACT_GAPS: [f32; 11] = [
+    0.05, 0.04, 0.03, 0.02, 0.01, 0.0, -0.01, -0.02, -0.03, -0.04, -0.05,
+];
 
 #[derive(clap::Args)]
 pub struct ScalingArgs {
@@ -41,6 +46,15 @@ pub struct ScalingArgs {
     /// as they pass; nothing by default.
     #[arg(long, value_delimiter = ',')]
     pub characters_count: Vec<usize>,
+    /// Contact sweep: the base scenario's character kept 5 cm to -5 cm from
+    /// its gap surface (the south wall if it keeps none), a centimetre apart,
+    /// so the speed-up over parry is seen from near miss to deep contact.
+    #[arg(long)]
+    pub contact_sweep: bool,
+    /// Gaps of the contact sweep, metres (comma-separated; negative: that
+    /// deep into the surface at the deepest), e.g. `--contact-gaps=0.02,0,-0.02`.
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub contact_gaps: Option<Vec<f32>>,
     /// Vertices of each humanoid of the crowd study.
     #[arg(long, default_value_t = 10_000)]
     pub crowd_vertices: usize,
@@ -56,12 +70,19 @@ struct Scaling {
     by_character: Vec<Bench>,
     by_environment: Vec<Bench>,
     by_characters_count: Vec<Bench>,
+    by_contact_gap: Vec<Bench>,
 }
 
 enum Study {
     Character(usize),
     Environment(usize),
     Crowd(usize),
+    Contact(f32),
+}
+
+/// Metres shown in signed centimetres (`-` when absent).
+fn cm(x: Option<f32>) -> String {
+    x.map_or(String::from("-"), |m| format!("{:+.1}", m * 100.0))
 }
 
 pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
@@ -69,7 +90,15 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
     let methods = common.methods_or_all();
     let name = scenario_name(&common.scenario);
     let frames = common.frames.unwrap_or(16);
-    let crowd_only = !args.characters_count.is_empty();
+    let gaps: Vec<f32> = match (&args.contact_gaps, args.contact_sweep) {
+        (Some(g), _) => g.clone(),
+        (None, true) => CONTACT_GAPS.to_vec(),
+        (None, false) => Vec::new(),
+    };
+    if let Some(g) = gaps.iter().find(|g| !g.is_finite() || g.abs() > 1.0) {
+        anyhow::bail!("--contact-gaps: {g}: a gap must be finite and within ±1 m");
+    }
+    let crowd_only = !args.characters_count.is_empty() || !gaps.is_empty();
     let characters = args.characters.clone().unwrap_or_else(|| {
         if crowd_only {
             Vec::new()
@@ -89,13 +118,14 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
         .map(|&c| Study::Character(c))
         .chain(environments.iter().map(|&e| Study::Environment(e)))
         .chain(args.characters_count.iter().map(|&n| Study::Crowd(n)))
+        .chain(gaps.iter().map(|&g| Study::Contact(g)))
         .collect();
     if let Some(&n) = args.characters_count.iter().find(|&&n| n == 0) {
         anyhow::bail!("--characters-count: {n}: a crowd needs at least one character");
     }
     let base = load_scenario(&common.scenario)?;
     let progress = progress_bar(studies.len() as u64 * frames);
-    let mut by = [Vec::new(), Vec::new(), Vec::new()];
+    let mut by = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
     for study in &studies {
         let (label, slot, scene): (String, usize, anyhow::Result<Resolved>) = match *study {
             Study::Character(c) => (
@@ -118,6 +148,11 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
                 variants::crowd(&common.scenario, &base, n, args.crowd_vertices)
                     .map_err(Into::into),
             ),
+            Study::Contact(g) => (
+                format!("{name}, gap {:+.1} cm", g * 100.0),
+                3,
+                variants::at_gap(&common.scenario, &base, g).map_err(Into::into),
+            ),
         };
         progress.set_message(label.clone());
         let mut scene = scene.with_context(|| label.clone())?;
@@ -132,13 +167,19 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
         )?);
     }
     progress.finish_and_clear();
-    let [by_character, by_environment, by_characters_count] = by;
+    let [
+        by_character,
+        by_environment,
+        by_characters_count,
+        by_contact_gap,
+    ] = by;
     let result = Scaling {
         base_scenario: name,
         frames,
         by_character,
         by_environment,
         by_characters_count,
+        by_contact_gap,
     };
     let sizes: [Column; 2] = [
         ("character vertices", |b| b.vertices.to_string()),
@@ -183,6 +224,21 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
             variants::LANE_SPACING
         );
         out += &scaling_table(&result.by_characters_count, &methods, &crowd);
+    }
+    if !result.by_contact_gap.is_empty() {
+        let contact: [Column; 3] = [
+            ("gap (cm)", |b| cm(b.gap_metres)),
+            ("deepest (cm)", |b| cm(b.deepest_metres)),
+            ("pairs (fastest)", |b| {
+                let best = b
+                    .methods
+                    .iter()
+                    .min_by(|x, y| x.ms_per_frame.total_cmp(&y.ms_per_frame));
+                best.map_or(String::new(), |m| format!("{:.0}", m.pairs_per_frame))
+            }),
+        ];
+        out += "\n### Against the depth of contact (negative gap: that deep into the surface at the deepest)\n\n";
+        out += &scaling_table(&result.by_contact_gap, &methods, &contact);
     }
     if let Some(path) = &common.json {
         std::fs::write(path, serde_json::to_string(&result)?)

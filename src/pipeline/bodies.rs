@@ -60,6 +60,10 @@ impl<H: Hierarchy> Hierarchy for InFrame<H> {
     fn sphere(&mut self, id: NodeId) -> Sphere {
         sphere_in_frame(&self.inner.sphere(id), &self.to)
     }
+    #[inline]
+    fn prefetch(&self, id: NodeId) {
+        self.inner.prefetch(id);
+    }
 }
 
 /// A static tree as a [`Hierarchy`] through a shared borrow.
@@ -159,7 +163,17 @@ impl Pipeline {
 
         let t0 = Instant::now();
         pairs.clear();
+        let once = self.method.tests_each_pair_once();
+        if once {
+            self.repeats.begin_pass();
+        }
         for p in &self.object_leaf_pairs {
+            if once
+                && object.is_division_leaf(p.leaf_b)
+                && !self.repeats.first_time(p.primitive_a, p.primitive_b)
+            {
+                continue;
+            }
             let hit = if self.answers_by_plane(object, p.leaf_b) {
                 if self.method.prunes_at_plane() {
                     true

@@ -36,6 +36,7 @@ use crate::sphere_tree::{
     BuildParams, Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded,
 };
 
+use super::repeat_filter::RepeatFilter;
 use super::visit_log::{NoLog, TestedNodes, VisitLog};
 use super::{EnvironmentTree, LeafTest, Method};
 
@@ -108,6 +109,8 @@ pub struct Pipeline {
     pub(super) object_leaf_pairs: Vec<LeafPair>,
     /// This frame's colliding pairs with the room, sorted, distinct.
     pub pairs: Vec<(u32, u32)>,
+    /// Pairs already tested in this pass (methods that test each pair once).
+    pub(super) repeats: RepeatFilter,
     /// Whether the first frame has sized the buffers.
     warmed_up: bool,
     /// Whether refit time is measured apart from traversal.
@@ -145,6 +148,11 @@ impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
         let s = self.refitter.refit_node(id, &base);
         self.ticks += ticks().wrapping_sub(t0);
         s
+    }
+
+    #[inline]
+    fn prefetch(&self, id: NodeId) {
+        self.refitter.prefetch(id);
     }
 }
 
@@ -208,6 +216,7 @@ impl Pipeline {
             leaf_pairs: Vec::new(),
             object_leaf_pairs: Vec::new(),
             pairs: Vec::new(),
+            repeats: RepeatFilter::new(character.mesh.triangle_count()),
             warmed_up: false,
             time_refit: true,
             visits: None,
@@ -310,7 +319,17 @@ impl Pipeline {
         // Narrow phase.
         let t0 = Instant::now();
         self.pairs.clear();
+        let once = self.method.tests_each_pair_once();
+        if once {
+            self.repeats.begin_pass();
+        }
         for p in &self.leaf_pairs {
+            if once
+                && self.environment.is_division_leaf(p.leaf_b)
+                && !self.repeats.first_time(p.primitive_a, p.primitive_b)
+            {
+                continue;
+            }
             let et = env.triangle(TriangleId(p.primitive_b));
             let hit = if self.plane_sphere_leaf(p) {
                 if self.method.prunes_at_plane() {

@@ -123,6 +123,13 @@ impl Method {
         )
     }
 
+    /// Whether a (character triangle, big triangle) pair reached through
+    /// several leaves of the big triangle's division is tested once
+    /// ([`super::repeat_filter`]); the paper's methods test every leaf pair.
+    pub fn tests_each_pair_once(self) -> bool {
+        self == Method::PrunedTriTri
+    }
+
     /// The name used on the command line, in files and in reports.
     pub fn name(self) -> &'static str {
         match self {

@@ -6,12 +6,14 @@
 //! | [`driver`] | one method's per-frame pipeline: on-demand refit inside traversal, narrow phase, counters, stage times | §3–6 |
 //! | [`method`] | [`Method`]: original, sphere division, plane-sphere and quaternary plane-sphere (§5 as written), their pruned twins and pruned tri-tri (ours) | §5, §6 |
 //! | [`environment_tree`] | the environment's sphere tree with big-triangle hierarchies grafted in | §5 |
+//! | [`repeat_filter`] | each (character triangle, big triangle) pair tested once a pass, without sorting (`pruned-tri-tri`) | §5 |
 //! | [`visit_log`] | which environment nodes the timed traversal tested (for recordings) | §3 |
 
 pub mod bodies;
 pub mod driver;
 pub mod environment_tree;
 pub mod method;
+pub mod repeat_filter;
 pub mod visit_log;
 
 pub use environment_tree::{DEFAULT_THRESHOLD, EnvironmentTree, Threshold};

@@ -22,6 +22,29 @@ pub trait Hierarchy {
     /// compiles to nothing).
     #[inline]
     fn tested(&mut self, _id: NodeId) {}
+    /// Asks the processor to start loading what [`Hierarchy::sphere`] will
+    /// read for `id` (a hint: by default the node itself).
+    #[inline]
+    fn prefetch(&self, id: NodeId) {
+        prefetch(self.tree().nodes().as_ptr().wrapping_add(id.index()));
+    }
+}
+
+/// Starts loading the cache line of `p` (a hint; nothing on other
+/// architectures). Traversal calls it for the children it will test after
+/// the pair just pushed is popped: a frame's trees are cold after other work
+/// (skinning, rendering, another library) and their nodes come from memory.
+#[inline(always)]
+pub fn prefetch<T>(p: *const T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch is a hint that never faults, whatever the address.
+    #[allow(unused_unsafe)]
+    unsafe {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        _mm_prefetch::<_MM_HINT_T0>(p as *const i8);
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = p;
 }
 
 impl Hierarchy for SphereTree {
@@ -149,6 +172,7 @@ where
                         let sc = a.sphere(NodeId(c));
                         if sc.overlaps(&sb) && guard(j, &sc) {
                             ws.stack.push((NodeId(c), j));
+                            prefetch_next(a, b, NodeId(c), j, sc.radius, sb.radius);
                         }
                     }
                 } else {
@@ -156,8 +180,10 @@ where
                         stats.sphere_tests += 1;
                         a.tested(i);
                         b.tested(NodeId(c));
-                        if sa.overlaps(&b.sphere(NodeId(c))) && guard(NodeId(c), &sa) {
+                        let sc = b.sphere(NodeId(c));
+                        if sa.overlaps(&sc) && guard(NodeId(c), &sa) {
                             ws.stack.push((i, NodeId(c)));
+                            prefetch_next(a, b, i, NodeId(c), sa.radius, sc.radius);
                         }
                     }
                 }
@@ -166,4 +192,25 @@ where
         }
     }
     stats
+}
+
+/// For the pair `(i, j)` just pushed, with sphere radii `ra`, `rb`: prefetches
+/// the children traversal will test when it pops the pair (the side it will
+/// open, by the rule of [`traverse_guarded`]).
+#[inline(always)]
+fn prefetch_next<A, B>(a: &A, b: &B, i: NodeId, j: NodeId, ra: f32, rb: f32)
+where
+    A: Hierarchy + ?Sized,
+    B: Hierarchy + ?Sized,
+{
+    let (na, nb) = (a.tree().node(i), b.tree().node(j));
+    if nb.is_leaf() || (!na.is_leaf() && ra >= rb) {
+        for c in na.children() {
+            a.prefetch(NodeId(c));
+        }
+    } else {
+        for c in nb.children() {
+            b.prefetch(NodeId(c));
+        }
+    }
 }
