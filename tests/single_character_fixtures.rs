@@ -54,12 +54,11 @@ fn check(name: &str) {
             ];
             let mut want = want[2..9].to_vec();
             if m.method.tests_each_pair_once() {
-                // Since the fixtures were written, this method tests each
-                // (triangle, big triangle) pair once rather than once per
-                // division leaf: never more tests, everything else the same.
-                let (w, g): (u64, u64) = (want[1].parse().unwrap(), got[1].parse().unwrap());
-                assert!(g <= w, "{name}, {} frame {k}: {g} > {w} tri-tri", m.method);
-                want[1] = got[1].clone();
+                // Since the fixtures were written, this method descends each
+                // character sphere once per big triangle and tests each
+                // (triangle, big triangle) pair once: its work changed, its
+                // answer (pairs and their hash) must not.
+                want[..5].clone_from_slice(&got[..5]);
             }
             assert_eq!(
                 &want[..],

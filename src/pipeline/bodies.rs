@@ -26,7 +26,9 @@ use crate::geometry::{Sphere, Triangle};
 use crate::mesh::{TriMesh, TriangleId};
 use crate::sphere_tree::refit::Refitter;
 use crate::sphere_tree::traverse::LeafPair;
-use crate::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded};
+use crate::sphere_tree::{
+    Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_grouped, traverse_guarded,
+};
 
 use super::EnvironmentTree;
 use super::driver::{FrameCounters, Pipeline, TimedRefit, ticks};
@@ -133,7 +135,18 @@ impl Pipeline {
         let leaf_pairs = &mut self.object_leaf_pairs;
         let mut b = Fixed(&object.tree);
         let mut guard_tests = 0u64;
-        let stats = if self.method.prunes_at_plane() {
+        let stats = if self.method.tests_each_pair_once() {
+            let guard = object.plane_guard(&mut guard_tests);
+            traverse_grouped(
+                &mut a,
+                &mut b,
+                &mut self.workspace,
+                &mut self.group_marks,
+                |j| object.leaf_group(j),
+                guard,
+                |p| leaf_pairs.push(p),
+            )
+        } else if self.method.prunes_at_plane() {
             let guard = object.plane_guard(&mut guard_tests);
             traverse_guarded(&mut a, &mut b, &mut self.workspace, guard, |p| {
                 leaf_pairs.push(p)

@@ -33,7 +33,8 @@ use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::{RefitState, Refitter};
 use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
 use crate::sphere_tree::{
-    BuildParams, Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded,
+    BuildParams, GroupMarks, Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_grouped,
+    traverse_guarded,
 };
 
 use super::repeat_filter::RepeatFilter;
@@ -111,6 +112,9 @@ pub struct Pipeline {
     pub pairs: Vec<(u32, u32)>,
     /// Pairs already tested in this pass (methods that test each pair once).
     pub(super) repeats: RepeatFilter,
+    /// Character spheres already descended against a big triangle in this
+    /// traversal (methods that test each pair once).
+    pub(super) group_marks: GroupMarks,
     /// Whether the first frame has sized the buffers.
     warmed_up: bool,
     /// Whether refit time is measured apart from traversal.
@@ -206,6 +210,7 @@ impl Pipeline {
         let character_tree =
             CharacterTree::build(character, dedup, options.skinning, options.build);
         let refit = RefitState::new(&character_tree, character.skeleton.len());
+        let group_marks = GroupMarks::new(character_tree.tree.len());
         Self {
             method,
             character_tree,
@@ -217,6 +222,7 @@ impl Pipeline {
             object_leaf_pairs: Vec::new(),
             pairs: Vec::new(),
             repeats: RepeatFilter::new(character.mesh.triangle_count()),
+            group_marks,
             warmed_up: false,
             time_refit: true,
             visits: None,
@@ -397,7 +403,18 @@ impl Pipeline {
             log,
         };
         let mut guard_tests = 0u64;
-        let stats = if self.method.prunes_at_plane() {
+        let stats = if self.method.tests_each_pair_once() {
+            let guard = envt.plane_guard(&mut guard_tests);
+            traverse_grouped(
+                &mut od,
+                &mut env_side,
+                &mut self.workspace,
+                &mut self.group_marks,
+                |j| envt.leaf_group(j),
+                guard,
+                |p| leaf_pairs.push(p),
+            )
+        } else if self.method.prunes_at_plane() {
             let guard = envt.plane_guard(&mut guard_tests);
             traverse_guarded(&mut od, &mut env_side, &mut self.workspace, guard, |p| {
                 leaf_pairs.push(p)

@@ -55,6 +55,8 @@ pub struct EnvironmentTree {
     leaf_division: Vec<u32>,
     /// The plane of each division's big triangle, prepared once.
     planes: Vec<TrianglePlane>,
+    /// Each division's root sphere (it holds the whole big triangle).
+    division_spheres: Vec<Sphere>,
     /// Whether each environment triangle is big.
     pub big: Vec<bool>,
     /// Whether a division stopped at the level cap somewhere.
@@ -80,6 +82,7 @@ impl EnvironmentTree {
                 division_node: vec![None; n],
                 leaf_division: vec![NOT_A_DIVISION_LEAF; n],
                 planes: vec![],
+                division_spheres: vec![],
                 big,
                 capped: false,
             };
@@ -152,6 +155,10 @@ impl EnvironmentTree {
             .iter()
             .map(|d| TrianglePlane::new(&mesh.triangle(d.original)))
             .collect();
+        let division_spheres = divisions
+            .iter()
+            .map(|d| d.tree.node(NodeId::ROOT).sphere)
+            .collect();
         Self {
             method,
             threshold,
@@ -160,6 +167,7 @@ impl EnvironmentTree {
             division_node,
             leaf_division,
             planes,
+            division_spheres,
             big,
             capped,
         }
@@ -193,6 +201,17 @@ impl EnvironmentTree {
                 *tests += 1;
                 meets
             }
+        }
+    }
+
+    /// For a leaf of a big triangle's division: the division's index and its
+    /// root sphere, which holds the big triangle (the leaf groups of
+    /// [`crate::sphere_tree::grouped`]).
+    #[inline]
+    pub fn leaf_group(&self, id: NodeId) -> Option<(u32, Sphere)> {
+        match self.leaf_division[id.index()] {
+            NOT_A_DIVISION_LEAF => None,
+            d => Some((d, self.division_spheres[d as usize])),
         }
     }
 

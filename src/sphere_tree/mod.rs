@@ -9,6 +9,7 @@
 //! | [`refit`] | on-demand refit from per-joint weight ranges (§3 sphere update) |
 //! | [`validate`] | the public validator tests call after every step |
 //! | [`traverse`] | simultaneous traversal of two trees with a reusable [`Workspace`] |
+//! | [`grouped`] | the same, descending each sphere once per group of leaves (a big triangle's division) |
 //!
 //! Invariants (checked by [`SphereTree::validate`]): node 0 is the root; the
 //! children of a node are contiguous and stored after it, level by level, so a
@@ -20,12 +21,14 @@
 pub mod build;
 pub mod character;
 pub mod containment;
+pub mod grouped;
 pub mod node;
 pub mod refit;
 pub mod traverse;
 pub mod validate;
 
 pub use build::{BuildParams, build_tree};
+pub use grouped::{GroupMarks, traverse_grouped};
 pub use node::{Node, NodeId, SphereTree};
 pub use traverse::{Hierarchy, TraversalStats, Workspace, traverse, traverse_guarded};
 pub use validate::TreeError;

@@ -61,7 +61,7 @@ impl Hierarchy for SphereTree {
 /// Scratch space kept between queries.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    stack: Vec<(NodeId, NodeId)>,
+    pub(super) stack: Vec<(NodeId, NodeId)>,
 }
 
 impl Workspace {
@@ -198,7 +198,7 @@ where
 /// the children traversal will test when it pops the pair (the side it will
 /// open, by the rule of [`traverse_guarded`]).
 #[inline(always)]
-fn prefetch_next<A, B>(a: &A, b: &B, i: NodeId, j: NodeId, ra: f32, rb: f32)
+pub(super) fn prefetch_next<A, B>(a: &A, b: &B, i: NodeId, j: NodeId, ra: f32, rb: f32)
 where
     A: Hierarchy + ?Sized,
     B: Hierarchy + ?Sized,

@@ -1,0 +1,244 @@
+//! Traversal that descends each sphere of `a` once per *group* of `b`'s
+//! leaves (the leaves of one big triangle's division, for example).
+//!
+//! In a big triangle's corner-tree many small leaves sit along its edges and
+//! corners (§5), and every leaf names the same big triangle. A character
+//! sphere overlapping `k` of those leaves is descended `k` times by
+//! [`traverse_guarded`](super::traverse_guarded), with the same plane tests
+//! each time, for leaf pairs that all end in the same triangle tests. Here,
+//! the first time a sphere of `a` is paired with a leaf of group `g`, its
+//! children are tested against the sphere of the whole group (which holds
+//! every leaf of it) instead of that one leaf's, and the sphere is marked;
+//! a later pair of the same sphere with another leaf of `g` is dropped. The
+//! marked descent reaches every leaf of `a` the dropped pairs could have
+//! reached, so no pair of primitives is lost; some may be reached twice (a
+//! sphere first descended through an inner node of the group and again
+//! through an ancestor), which the caller's repeat filter absorbs.
+
+use super::node::{Node, NodeId};
+use super::traverse::{Hierarchy, LeafPair, TraversalStats, Workspace, prefetch_next};
+use crate::geometry::Sphere;
+
+/// Per sphere of `a`, the last group it was descended against in the current
+/// traversal; a traversal stamp makes clearing free.
+#[derive(Clone, Debug, Default)]
+pub struct GroupMarks {
+    last: Vec<(u32, u32)>,
+    pass: u32,
+}
+
+impl GroupMarks {
+    /// Marks for a tree of `nodes` spheres.
+    pub fn new(nodes: usize) -> Self {
+        Self {
+            last: vec![(0, 0); nodes],
+            pass: 0,
+        }
+    }
+
+    fn begin_pass(&mut self) {
+        self.pass = self.pass.wrapping_add(1);
+        if self.pass == 0 {
+            self.last.fill((0, 0));
+            self.pass = 1;
+        }
+    }
+
+    /// Whether `id` meets group `g` for the first time in this pass; notes it.
+    #[inline]
+    fn first_time(&mut self, id: NodeId, g: u32) -> bool {
+        let e = &mut self.last[id.index()];
+        let first = *e != (self.pass, g);
+        *e = (self.pass, g);
+        first
+    }
+}
+
+/// [`traverse_guarded`](super::traverse_guarded) where `group(j)` gives, for
+/// a leaf `j` of `b` that belongs to a group, the group's index and a sphere
+/// holding all of its leaves' primitives (see the module doc).
+pub fn traverse_grouped<A, B, K, G, F>(
+    a: &mut A,
+    b: &mut B,
+    ws: &mut Workspace,
+    marks: &mut GroupMarks,
+    mut group: K,
+    mut guard: G,
+    mut on_leaf_pair: F,
+) -> TraversalStats
+where
+    A: Hierarchy + ?Sized,
+    B: Hierarchy + ?Sized,
+    K: FnMut(NodeId) -> Option<(u32, Sphere)>,
+    G: FnMut(NodeId, &Sphere) -> bool,
+    F: FnMut(LeafPair),
+{
+    let mut stats = TraversalStats::default();
+    if a.tree().is_empty() || b.tree().is_empty() {
+        return stats;
+    }
+    marks.begin_pass();
+    ws.stack.clear();
+    stats.sphere_tests += 1;
+    a.tested(NodeId::ROOT);
+    b.tested(NodeId::ROOT);
+    if a.sphere(NodeId::ROOT).overlaps(&b.sphere(NodeId::ROOT)) {
+        ws.stack.push((NodeId::ROOT, NodeId::ROOT));
+    }
+    while let Some((i, j)) = ws.stack.pop() {
+        let na: Node = *a.tree().node(i);
+        let nb: Node = *b.tree().node(j);
+        let grouped = if nb.is_leaf() { group(j) } else { None };
+        if let Some((g, _)) = grouped
+            && !marks.first_time(i, g)
+        {
+            continue;
+        }
+        match (na.primitive(), nb.primitive()) {
+            (Some(pa), Some(pb)) => {
+                stats.leaf_pairs += 1;
+                on_leaf_pair(LeafPair {
+                    leaf_a: i,
+                    leaf_b: j,
+                    primitive_a: pa,
+                    primitive_b: pb,
+                });
+            }
+            _ => {
+                let sa = a.sphere(i);
+                // A group's leaf is met by the group's sphere.
+                let sb = grouped.map_or_else(|| b.sphere(j), |(_, s)| s);
+                let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
+                if open_a {
+                    for c in na.children() {
+                        stats.sphere_tests += 1;
+                        a.tested(NodeId(c));
+                        b.tested(j);
+                        let sc = a.sphere(NodeId(c));
+                        if sc.overlaps(&sb) && guard(j, &sc) {
+                            ws.stack.push((NodeId(c), j));
+                            prefetch_next(a, b, NodeId(c), j, sc.radius, sb.radius);
+                        }
+                    }
+                } else {
+                    for c in nb.children() {
+                        stats.sphere_tests += 1;
+                        a.tested(i);
+                        b.tested(NodeId(c));
+                        let sc = b.sphere(NodeId(c));
+                        if sa.overlaps(&sc) && guard(NodeId(c), &sa) {
+                            ws.stack.push((i, NodeId(c)));
+                            prefetch_next(a, b, i, NodeId(c), sa.radius, sc.radius);
+                        }
+                    }
+                }
+                stats.max_stack = stats.max_stack.max(ws.stack.len());
+            }
+        }
+    }
+    stats
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    use super::{GroupMarks, traverse_grouped};
+    use crate::geometry::enclosing::points_sphere;
+    use crate::geometry::{Point, Sphere};
+    use crate::mesh::{TriMesh, TriangleId};
+    use crate::sphere_tree::{BuildParams, NodeId, SphereTree, Workspace, build_tree, traverse};
+
+    fn soup(seed: u64, n: usize, spread: f32, size: f32) -> TriMesh {
+        let mut x = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        for t in 0..n as u32 {
+            let c = [spread * next(), spread * next(), spread * next()];
+            for _ in 0..3 {
+                positions.push(Point::new(
+                    c[0] + size * (next() - 0.5),
+                    c[1] + size * (next() - 0.5),
+                    c[2] + size * (next() - 0.5),
+                ));
+            }
+            triangles.push([3 * t, 3 * t + 1, 3 * t + 2]);
+        }
+        TriMesh::new(positions, triangles).unwrap()
+    }
+
+    fn tree(mesh: &TriMesh) -> SphereTree {
+        let all: Vec<TriangleId> = (0..mesh.triangle_count() as u32).map(TriangleId).collect();
+        build_tree(mesh, &all, BuildParams::default())
+    }
+
+    /// Against plain traversal of the same trees: every (primitive of `a`,
+    /// group of `b`'s leaf) that plain traversal reaches is reached with
+    /// groups too, whatever the grouping.
+    #[test]
+    fn grouping_loses_no_pair() {
+        for seed in 0..40u64 {
+            let ma = soup(seed, 60, 1.0, 0.2);
+            let mb = soup(seed + 1000, 80, 1.0, 0.3);
+            let (mut ta, mut tb) = (tree(&ma), tree(&mb));
+            // Groups: triangles of `b` by index modulo a seed-dependent count.
+            let groups = 1 + (seed as u32 % 7);
+            let group_of = |p: u32| p % groups;
+            // Each group's sphere holds its leaves' spheres (as a division's
+            // root sphere holds its nested leaves).
+            let leaves: Vec<(u32, Sphere)> = tb
+                .nodes()
+                .iter()
+                .filter_map(|n| n.primitive().map(|p| (p, n.sphere)))
+                .collect();
+            let spheres: Vec<Sphere> = (0..groups)
+                .map(|g| {
+                    let mine: Vec<Sphere> = leaves
+                        .iter()
+                        .filter(|(p, _)| group_of(*p) == g)
+                        .map(|(_, s)| *s)
+                        .collect();
+                    let centres: Vec<Point> = mine.iter().map(|s| s.center).collect();
+                    let mut s = points_sphere(&centres);
+                    s.radius = mine
+                        .iter()
+                        .map(|l| (l.center - s.center).norm() + l.radius)
+                        .fold(0.0, f32::max)
+                        * (1.0 + 1e-5);
+                    s
+                })
+                .collect();
+            let mut ws = Workspace::new();
+            let mut plain = BTreeSet::new();
+            traverse(&mut ta, &mut tb, &mut ws, |p| {
+                plain.insert((p.primitive_a, group_of(p.primitive_b)));
+            });
+            let mut grouped = BTreeSet::new();
+            let mut marks = GroupMarks::new(ta.len());
+            let leaf_primitive = |j: NodeId| tb.node(j).primitive();
+            let prims: Vec<Option<u32>> = (0..tb.len() as u32)
+                .map(|j| leaf_primitive(NodeId(j)))
+                .collect();
+            let mut tb2 = tb.clone();
+            traverse_grouped(
+                &mut ta,
+                &mut tb2,
+                &mut ws,
+                &mut marks,
+                |j| prims[j.index()].map(|p| (group_of(p), spheres[group_of(p) as usize])),
+                |_, _| true,
+                |p| {
+                    grouped.insert((p.primitive_a, group_of(p.primitive_b)));
+                },
+            );
+            let lost: Vec<_> = plain.difference(&grouped).collect();
+            assert!(lost.is_empty(), "seed {seed}: lost {lost:?}");
+        }
+    }
+}
