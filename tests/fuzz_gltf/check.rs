@@ -32,7 +32,17 @@ pub const LIMITS: LoadLimits = LoadLimits {
 pub const MEMORY_LIMIT: usize = 1 << 30;
 
 /// Longest one case may take before the watchdog saves it and ends the run.
-pub const TIME_LIMIT: Duration = Duration::from_secs(120);
+/// Wall time a case may take by default (`FUZZ_TIME_LIMIT` seconds
+/// overrides it: a loaded machine starves a case without it being slow).
+pub const DEFAULT_TIME_LIMIT: Duration = Duration::from_secs(120);
+
+/// The wall-time limit of one case.
+pub fn time_limit() -> Duration {
+    std::env::var("FUZZ_TIME_LIMIT")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .map_or(DEFAULT_TIME_LIMIT, Duration::from_secs)
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Loader {
@@ -307,7 +317,7 @@ pub fn save_failure(
     dir
 }
 
-/// Ends the process if a case runs past [`TIME_LIMIT`], after saving it: a
+/// Ends the process if a case runs past [`time_limit`], after saving it: a
 /// loop that never ends cannot be caught any other way.
 pub fn start_watchdog() {
     static STARTED: Mutex<bool> = Mutex::new(false);
@@ -317,14 +327,15 @@ pub fn start_watchdog() {
     }
     *started = true;
     quiet_panics();
-    std::thread::spawn(|| {
+    let limit = time_limit();
+    std::thread::spawn(move || {
         loop {
             std::thread::sleep(Duration::from_secs(1));
             let guard = RUNNING.lock().unwrap_or_else(|e| e.into_inner());
             let stuck = guard
                 .iter()
                 .flat_map(|map| map.values())
-                .find(|r| r.start.elapsed() > TIME_LIMIT);
+                .find(|r| r.start.elapsed() > limit);
             if let Some(Running {
                 loader,
                 kind,
@@ -338,12 +349,12 @@ pub fn start_watchdog() {
                     *kind,
                     main,
                     bin.as_deref(),
-                    &format!("ran longer than {} s", TIME_LIMIT.as_secs()),
+                    &format!("ran longer than {} s", limit.as_secs()),
                 );
                 eprintln!(
                     "fuzz_gltf: a {} case ran longer than {} s; saved in {}",
                     loader.name(),
-                    TIME_LIMIT.as_secs(),
+                    limit.as_secs(),
                     dir.display()
                 );
                 std::process::exit(3);

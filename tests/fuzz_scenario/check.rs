@@ -34,7 +34,17 @@ pub const MEMORY_LIMIT: usize = LIMITS.max_bytes;
 pub const FRAMES: usize = 8;
 
 /// Longest one case may take before the watchdog saves it and ends the run.
-pub const TIME_LIMIT: Duration = Duration::from_secs(120);
+/// Wall time a case may take by default (`FUZZ_TIME_LIMIT` seconds
+/// overrides it: a loaded machine starves a case without it being slow).
+pub const DEFAULT_TIME_LIMIT: Duration = Duration::from_secs(120);
+
+/// The wall-time limit of one case.
+pub fn time_limit() -> Duration {
+    std::env::var("FUZZ_TIME_LIMIT")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .map_or(DEFAULT_TIME_LIMIT, Duration::from_secs)
+}
 
 /// What a case did.
 #[derive(Debug)]
@@ -253,7 +263,7 @@ pub fn save_failure(text: &str, why: &str) -> PathBuf {
     dir
 }
 
-/// Ends the process if a case runs past [`TIME_LIMIT`], after saving it.
+/// Ends the process if a case runs past [`time_limit`], after saving it.
 pub fn start_watchdog() {
     static STARTED: Mutex<bool> = Mutex::new(false);
     let mut started = STARTED.lock().unwrap_or_else(|e| e.into_inner());
@@ -262,20 +272,20 @@ pub fn start_watchdog() {
     }
     *started = true;
     quiet_panics();
-    std::thread::spawn(|| {
+    let limit = time_limit();
+    std::thread::spawn(move || {
         loop {
             std::thread::sleep(Duration::from_secs(1));
             let guard = RUNNING.lock().unwrap_or_else(|e| e.into_inner());
             let stuck = guard
                 .iter()
                 .flat_map(|map| map.values())
-                .find(|(start, _)| start.elapsed() > TIME_LIMIT);
+                .find(|(start, _)| start.elapsed() > limit);
             if let Some((_, text)) = stuck {
-                let dir =
-                    save_failure(text, &format!("ran longer than {} s", TIME_LIMIT.as_secs()));
+                let dir = save_failure(text, &format!("ran longer than {} s", limit.as_secs()));
                 eprintln!(
                     "fuzz_scenario: a case ran longer than {} s; saved in {}",
-                    TIME_LIMIT.as_secs(),
+                    limit.as_secs(),
                     dir.display()
                 );
                 std::process::exit(3);
