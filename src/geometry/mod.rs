@@ -6,6 +6,7 @@
 //! | [`triangle`] | [`Triangle`] | |
 //! | [`plane_sphere`] | Algorithm 1, the plane-sphere test (30 operations) | §5 |
 //! | [`tri_tri`] | the narrow phase's triangle-triangle test: the faster of the two below (96 operations) | §3 narrow phase |
+//! | [`triangle_prism`] | whether a sphere can reach a triangle, by its three edge planes (before the triangle-triangle test of a big triangle; ours) | |
 //! | [`tropp`] | Tropp, Tal and Shimshoni's triangle-triangle test | §3 narrow phase |
 //! | [`edge_crossing`] | edge-crossing triangle-triangle test (crossing edges of each against the other) | |
 //! | [`coplanar_degenerate`] | what both share: snapped plane offsets, coplanar pairs, zero-area triangles | |
@@ -44,6 +45,7 @@ pub mod scalar;
 pub mod sphere;
 pub mod tri_tri;
 pub mod triangle;
+pub mod triangle_prism;
 pub mod tropp;
 pub mod vec3;
 

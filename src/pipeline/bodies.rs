@@ -136,7 +136,7 @@ impl Pipeline {
         let mut b = Fixed(&object.tree);
         let mut guard_tests = 0u64;
         let stats = if self.method.tests_each_pair_once() {
-            let guard = object.plane_guard(&mut guard_tests);
+            let guard = object.plane_prism_guard(&mut guard_tests);
             traverse_grouped(
                 &mut a,
                 &mut b,

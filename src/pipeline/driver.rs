@@ -404,7 +404,7 @@ impl Pipeline {
         };
         let mut guard_tests = 0u64;
         let stats = if self.method.tests_each_pair_once() {
-            let guard = envt.plane_guard(&mut guard_tests);
+            let guard = envt.plane_prism_guard(&mut guard_tests);
             traverse_grouped(
                 &mut od,
                 &mut env_side,

@@ -5,6 +5,7 @@
 use crate::big_triangle::Division;
 use crate::big_triangle::hierarchy::MAX_LEVELS;
 use crate::geometry::plane_sphere::TrianglePlane;
+use crate::geometry::triangle_prism::TrianglePrism;
 use crate::geometry::{Real, Sphere};
 use crate::mesh::{TriMesh, TriangleId};
 use crate::sphere_tree::{BuildParams, Node, NodeId, SphereTree, build_tree};
@@ -57,6 +58,8 @@ pub struct EnvironmentTree {
     planes: Vec<TrianglePlane>,
     /// Each division's root sphere (it holds the whole big triangle).
     division_spheres: Vec<Sphere>,
+    /// Each division's big triangle's edge planes, prepared once.
+    prisms: Vec<TrianglePrism>,
     /// Whether each environment triangle is big.
     pub big: Vec<bool>,
     /// Whether a division stopped at the level cap somewhere.
@@ -83,6 +86,7 @@ impl EnvironmentTree {
                 leaf_division: vec![NOT_A_DIVISION_LEAF; n],
                 planes: vec![],
                 division_spheres: vec![],
+                prisms: vec![],
                 big,
                 capped: false,
             };
@@ -155,6 +159,10 @@ impl EnvironmentTree {
             .iter()
             .map(|d| TrianglePlane::new(&mesh.triangle(d.original)))
             .collect();
+        let prisms = divisions
+            .iter()
+            .map(|d| TrianglePrism::new(&mesh.triangle(d.original)))
+            .collect();
         let division_spheres = divisions
             .iter()
             .map(|d| d.tree.node(NodeId::ROOT).sphere)
@@ -168,6 +176,7 @@ impl EnvironmentTree {
             leaf_division,
             planes,
             division_spheres,
+            prisms,
             big,
             capped,
         }
@@ -212,6 +221,31 @@ impl EnvironmentTree {
         match self.leaf_division[id.index()] {
             NOT_A_DIVISION_LEAF => None,
             d => Some((d, self.division_spheres[d as usize])),
+        }
+    }
+
+    /// [`Self::plane_guard`] that also drops a sphere lying wholly outside
+    /// one of the big triangle's edge planes ([`TrianglePrism`]): it holds no
+    /// point of the triangle, so no character triangle under it meets the
+    /// triangle. With [`crate::sphere_tree::grouped`] descents, which test
+    /// spheres against a whole division's root sphere, this keeps them to
+    /// the big triangle's prism. Each sphere tested counts one plane-sphere
+    /// test for the plane and one for the edge planes, if it gets there.
+    #[inline]
+    pub fn plane_prism_guard<'a>(
+        &'a self,
+        tests: &'a mut u64,
+    ) -> impl FnMut(NodeId, &Sphere) -> bool + 'a {
+        move |j, s| match self.leaf_division[j.index()] {
+            NOT_A_DIVISION_LEAF => true,
+            d => {
+                *tests += 1;
+                if !self.planes[d as usize].meets(s) {
+                    return false;
+                }
+                *tests += 1;
+                self.prisms[d as usize].may_meet(s)
+            }
         }
     }
 

@@ -1,0 +1,119 @@
+//! Whether a sphere can reach a triangle, by the triangle's three edge
+//! planes: a cheap test before the triangle-triangle test (ours).
+//!
+//! The triangle lies in the intersection of the three half-spaces bounded by
+//! the planes through its edges perpendicular to it, on its side (its
+//! infinite prism). A ball entirely outside one of them holds no point of
+//! the triangle, so no triangle inside the ball meets it. A ball that passes
+//! may still miss the triangle (near a corner, or far above it): the test
+//! only ever says "cannot meet", and the triangle-triangle test decides the
+//! rest. Evaluated in `f64` from the `f32` data with a margin far above the
+//! rounding, so it never rejects a ball that reaches the triangle; a
+//! degenerate triangle gets planes that reject nothing.
+
+use nalgebra::Vector3;
+
+use super::{Sphere, Triangle};
+
+/// Relative margin on distances (rounding of `f64` products of `f32` data is
+/// below 1e-15 of the magnitudes involved).
+const MARGIN: f64 = 1e-9;
+
+/// The three inward edge planes of a triangle, prepared once.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrianglePrism {
+    /// Unit inward normals (zero for a degenerate triangle) and offsets:
+    /// the triangle's side of edge `k` is `normals[k] · x ≥ offsets[k]`.
+    normals: [Vector3<f64>; 3],
+    offsets: [f64; 3],
+}
+
+impl TrianglePrism {
+    pub fn new(t: &Triangle) -> Self {
+        let v = [t.a, t.b, t.c].map(|p| p.coords.map(|x| x as f64));
+        let n = (v[1] - v[0]).cross(&(v[2] - v[0]));
+        let mut normals = [Vector3::zeros(); 3];
+        let mut offsets = [0.0; 3];
+        for k in 0..3 {
+            let (p, q, r) = (v[k], v[(k + 1) % 3], v[(k + 2) % 3]);
+            let mut e = n.cross(&(q - p));
+            let len = e.norm();
+            if !(len > 0.0 && len.is_finite()) {
+                return Self {
+                    normals: [Vector3::zeros(); 3],
+                    offsets: [0.0; 3],
+                };
+            }
+            e /= len;
+            if e.dot(&(r - p)) < 0.0 {
+                e = -e;
+            }
+            normals[k] = e;
+            offsets[k] = e.dot(&p);
+        }
+        Self { normals, offsets }
+    }
+
+    /// Whether the ball `s` may hold a point of the triangle (`false`: it
+    /// surely holds none).
+    #[inline]
+    pub fn may_meet(&self, s: &Sphere) -> bool {
+        let c = s.center.coords.map(|x| x as f64);
+        let scale = c.norm() + s.radius as f64;
+        for k in 0..3 {
+            let d = self.normals[k].dot(&c) - self.offsets[k];
+            let slack = s.radius as f64 + MARGIN * (scale + self.offsets[k].abs());
+            if d < -slack {
+                return false;
+            }
+        }
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TrianglePrism;
+    use crate::geometry::closest_point::point_triangle_distance;
+    use crate::geometry::{Point, Sphere, Triangle};
+
+    /// Against the exact distance from the centre to the triangle: a ball
+    /// that reaches the triangle is never rejected, and a ball far from the
+    /// triangle's prism is.
+    #[test]
+    fn never_rejects_a_ball_that_reaches_the_triangle() {
+        let mut x = 0x1234_5678_9abc_def1u64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 40) as f32 / (1u64 << 24) as f32 - 0.5
+        };
+        let (mut rejected, mut reaching) = (0, 0);
+        for _ in 0..20_000 {
+            let t = Triangle::new(
+                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
+                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
+                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
+            );
+            let prism = TrianglePrism::new(&t);
+            let c = Point::new(6.0 * next(), 6.0 * next(), 6.0 * next());
+            let d = point_triangle_distance(&c.map(|v| v as f64), &t);
+            // Radii around the distance, to probe the boundary.
+            for f in [0.5f64, 0.99, 1.0, 1.01, 2.0] {
+                let s = Sphere::new(c, (d * f) as f32);
+                let meets = (s.radius as f64) >= d;
+                if meets {
+                    reaching += 1;
+                    assert!(prism.may_meet(&s), "{t:?} {s:?} reaches at {d}");
+                } else if !prism.may_meet(&s) {
+                    rejected += 1;
+                }
+            }
+        }
+        assert!(
+            reaching > 10_000 && rejected > 10_000,
+            "{reaching} {rejected}"
+        );
+    }
+}
