@@ -64,7 +64,11 @@ pub enum Method {
     QuaternaryPlaneSpherePruned,
     /// Ours: corner-trees pruned at the plane as `plane-sphere-pruned`,
     /// with the triangle-triangle test at the leaves (§3's narrow phase):
-    /// the exact pairs of `original` at a fraction of the cost.
+    /// the exact pairs of `original` at a fraction of the cost. A character
+    /// sphere is descended once per big triangle (against the division's
+    /// root sphere, within the triangle's plane and edge planes) and each
+    /// (triangle, big triangle) pair is tested once
+    /// ([`Method::tests_each_pair_once`]).
     PrunedTriTri,
 }
 
@@ -123,9 +127,13 @@ impl Method {
         )
     }
 
-    /// Whether a (character triangle, big triangle) pair reached through
-    /// several leaves of the big triangle's division is tested once
-    /// ([`super::repeat_filter`]); the paper's methods test every leaf pair.
+    /// Whether a character sphere meeting several leaves of one big
+    /// triangle's division is descended once ([`crate::sphere_tree::grouped`],
+    /// with the plane and edge-plane guard of
+    /// [`super::EnvironmentTree::plane_prism_guard`]) and a (character
+    /// triangle, big triangle) pair reached twice is tested once
+    /// ([`super::repeat_filter`]); the paper's methods descend and test every
+    /// leaf pair.
     pub fn tests_each_pair_once(self) -> bool {
         self == Method::PrunedTriTri
     }
