@@ -29,6 +29,7 @@ use cornertree::truth::{FrameTruth, MethodContext};
 use cornertree::world::World;
 
 use super::args::ScenarioArgs;
+use super::play_ccd::ContinuousObserver;
 
 /// `--memory-budget` by default: [`RunLimits::default`] in GiB.
 pub const DEFAULT_BUDGET_GIB: f64 = 4.0;
@@ -82,6 +83,10 @@ pub struct PlayArgs {
     pub style: Style,
     /// `--memory-budget`, GiB.
     pub memory_budget: f64,
+    /// `--ccd`: continuous detection of every frame step (also on with the
+    /// scenario's `ccd = true`), its reference's sub-steps (`--ccd-substeps`).
+    pub ccd: bool,
+    pub ccd_substeps: Option<u32>,
 }
 
 /// How the summary table is printed.
@@ -346,6 +351,13 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         }
     }
 
+    // Continuous detection of every step (`--ccd`, `ccd = true`).
+    let mut ccd = (args.ccd || world.scene.ccd).then(|| {
+        let substeps = args.ccd_substeps.unwrap_or(world.scene.ccd_substeps);
+        let recorded: Vec<bool> = recorders.iter().map(Option::is_some).collect();
+        ContinuousObserver::new(&world, substeps, !args.no_truth, &recorded)
+    });
+
     // Per-frame records are summed as they come; they are kept only for the
     // JSON report, so a long run's memory stays flat.
     let keep_frames = args.common.json.is_some();
@@ -362,6 +374,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                 m.pipeline(0).hierarchy_bytes()
             },
             frames: Vec::new(),
+            continuous: None,
         })
         .collect();
     let mut summing: Vec<SummaryBuilder> = runs
@@ -396,9 +409,13 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         if truth.is_some()
             || world_truth.is_some()
             || recorders.iter().any(Option::is_some)
+            || ccd.as_ref().is_some_and(ContinuousObserver::wants_skin)
             || dumped
         {
             world.skin_all();
+        }
+        if let Some(c) = ccd.as_mut() {
+            c.begin_frame(&world, k);
         }
         if let Some(t) = truth.as_mut() {
             let first = world.scene.first();
@@ -416,6 +433,18 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         }
         for i in 0..world.methods.len() {
             world.detect_method(i);
+            let continuous = match ccd.as_mut() {
+                Some(c) => c
+                    .method(
+                        &mut world,
+                        k,
+                        i,
+                        recorders[i].as_ref().map(Recorder::stream),
+                    )
+                    .inspect_err(|_| discard(&created))
+                    .with_context(|| format!("continuous detection of frame {k}"))?,
+                None => None,
+            };
             let World {
                 scene,
                 methods: mws,
@@ -464,6 +493,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                 }
                 None => None,
             };
+            record.continuous = continuous;
             summing[i].add(&record);
             if keep_frames {
                 runs[i].frames.push(record);
@@ -525,6 +555,9 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
             )
             .with_context(|| format!("{}: cannot dump frame {k}", dir.display()))?;
         }
+        if let Some(c) = ccd.as_mut() {
+            c.end_frame(&world, k);
+        }
         played = k + 1;
         progress.inc(1);
     }
@@ -546,6 +579,11 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     }
 
     let summaries: Vec<Summary> = summing.iter().map(SummaryBuilder::summary).collect();
+    if let Some(c) = &ccd {
+        for (r, t) in runs.iter_mut().zip(&c.totals) {
+            r.continuous = Some(t.clone());
+        }
+    }
     if let Some(path) = &args.common.json {
         let text = match runs.as_slice() {
             [one] => serde_json::to_string(one)?,
@@ -620,6 +658,9 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     };
     if is_world {
         out += &world_kind_table(&summing, world_truth.is_some());
+    }
+    if let Some(c) = &ccd {
+        out += &c.summary(&world);
     }
     out += &format!(
         "{played} frames, {} methods in {:.1} s (hierarchies, frames{})\n",

@@ -1,0 +1,219 @@
+//! Swept spheres of a character tree over one frame step (continuous
+//! detection, the paper's future work of §7; docs/ccd.md, "Swept
+//! hierarchies").
+//!
+//! Over a step every vertex moves on the straight line between its skinned
+//! positions at the two frames. If a node's refit sphere holds its vertices
+//! at the start (`S₀`) and at the end (`S₁`), then:
+//!
+//! * the **interpolated sphere** `S(t) = (c₀ + t(c₁ − c₀), r₀ + t(r₁ − r₀))`
+//!   holds them at every `t`: `v(t) − c(t) = (1 − t)(v₀ − c₀) + t(v₁ − c₁)`,
+//!   of length at most `(1 − t) r₀ + t r₁`; a triangle is the convex hull of
+//!   its corners, and a ball is convex, so it holds the node's triangles too;
+//! * the **swept sphere**, the smallest ball holding `S₀` and `S₁`, holds
+//!   every `S(t)` (each lies in the convex hull of the two), hence the
+//!   node's triangles over the whole step. It is what traversal tests.
+//!
+//! [`SweptCharacter`] is the character tree as a [`Hierarchy`] of swept
+//! spheres: it refits a node at both ends on first request (two
+//! [`Refitter`]s, each with its own refit state and pose), and keeps the
+//! swept sphere for the rest of the step.
+
+use nalgebra::Matrix4;
+
+use crate::geometry::enclosing::round_up;
+use crate::geometry::sphere::distance_f64;
+use crate::geometry::{Point, Sphere};
+
+use super::character::CharacterTree;
+use super::node::{NodeId, SphereTree};
+use super::refit::Refitter;
+use super::traverse::Hierarchy;
+
+/// Relative growth covering the `f64` arithmetic of a radius (as refit).
+const F64_SLACK: f64 = 1e-12;
+
+/// The smallest ball holding both `a` and `b`, with its centre rounded to
+/// `f32` and its radius measured again from that centre in `f64` and rounded
+/// up, so both are inside without tolerance.
+pub fn enclosing_pair(a: &Sphere, b: &Sphere) -> Sphere {
+    let (ra, rb) = (a.radius as f64, b.radius as f64);
+    let d = distance_f64(&a.center, &b.center);
+    let center = if d + rb <= ra {
+        a.center
+    } else if d + ra <= rb {
+        b.center
+    } else {
+        // On the segment, `(d + rb − ra) / 2` from `a`'s centre.
+        let f = ((d + rb - ra) / (2.0 * d)).clamp(0.0, 1.0);
+        let lerp = |x: f32, y: f32| (x as f64 + (y as f64 - x as f64) * f) as f32;
+        Point::new(
+            lerp(a.center.x, b.center.x),
+            lerp(a.center.y, b.center.y),
+            lerp(a.center.z, b.center.z),
+        )
+    };
+    let r = (distance_f64(&center, &a.center) + ra).max(distance_f64(&center, &b.center) + rb);
+    Sphere::new(center, round_up(r * (1.0 + F64_SLACK)))
+}
+
+/// A node's refit spheres at both ends of a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereSweep {
+    pub start: Sphere,
+    pub end: Sphere,
+}
+
+impl SphereSweep {
+    /// The interpolated sphere at `t ∈ [0, 1]` (module doc), radius rounded up
+    /// by the `f64` slack.
+    pub fn at(&self, t: f64) -> Sphere {
+        let lerp = |x: f32, y: f32| x as f64 + (y as f64 - x as f64) * t;
+        let c = Point::new(
+            lerp(self.start.center.x, self.end.center.x) as f32,
+            lerp(self.start.center.y, self.end.center.y) as f32,
+            lerp(self.start.center.z, self.end.center.z) as f32,
+        );
+        // The exact interpolated centre is within the rounding of `c`.
+        let exact = nalgebra::Vector3::new(
+            lerp(self.start.center.x, self.end.center.x),
+            lerp(self.start.center.y, self.end.center.y),
+            lerp(self.start.center.z, self.end.center.z),
+        );
+        let shift = (exact - c.coords.cast::<f64>()).norm();
+        let r = lerp(self.start.radius, self.end.radius) + shift;
+        Sphere::new(c, round_up(r * (1.0 + F64_SLACK)))
+    }
+
+    /// The swept sphere: holds the node over the whole step.
+    pub fn swept(&self) -> Sphere {
+        enclosing_pair(&self.start, &self.end)
+    }
+}
+
+/// Swept spheres computed this step (a stamp per node, as refit).
+#[derive(Clone, Debug)]
+pub struct SweptCache {
+    pub spheres: Vec<Sphere>,
+    stamp: Vec<u32>,
+    step: u32,
+}
+
+impl SweptCache {
+    pub fn new(nodes: usize) -> Self {
+        Self {
+            spheres: vec![Sphere::new(Point::origin(), 0.0); nodes],
+            stamp: vec![0; nodes],
+            step: 0,
+        }
+    }
+
+    /// Starts a step: every swept sphere is stale. No allocation.
+    pub fn begin_step(&mut self) {
+        self.step = self.step.wrapping_add(1);
+        if self.step == 0 {
+            self.stamp.fill(0);
+            self.step = 1;
+        }
+    }
+
+    /// Whether node `id`'s swept sphere was computed this step.
+    #[inline]
+    pub fn is_fresh(&self, id: NodeId) -> bool {
+        self.stamp[id.index()] == self.step
+    }
+}
+
+/// A character tree over a step: each node's swept sphere, refitting it at
+/// both ends on first request (the paper's on-demand refit, §3, done twice).
+pub struct SweptCharacter<'a> {
+    /// The refit at the start of the step (the previous frame's pose).
+    pub start: Refitter<'a>,
+    pub start_base: Matrix4<f32>,
+    /// The refit at the end (this frame's pose).
+    pub end: Refitter<'a>,
+    pub end_base: Matrix4<f32>,
+    pub cache: &'a mut SweptCache,
+}
+
+impl SweptCharacter<'_> {
+    /// Node `id`'s refit spheres at both ends (refit now where stale).
+    #[inline]
+    pub fn sweep(&mut self, id: NodeId) -> SphereSweep {
+        SphereSweep {
+            start: fresh(&mut self.start, id, &self.start_base),
+            end: fresh(&mut self.end, id, &self.end_base),
+        }
+    }
+
+    /// The character tree.
+    pub fn character_tree(&self) -> &CharacterTree {
+        self.end.tree
+    }
+}
+
+#[inline]
+fn fresh(r: &mut Refitter<'_>, id: NodeId, base: &Matrix4<f32>) -> Sphere {
+    if r.state.is_fresh(id) {
+        r.state.spheres[id.index()]
+    } else {
+        r.refit_node(id, base)
+    }
+}
+
+impl Hierarchy for SweptCharacter<'_> {
+    fn tree(&self) -> &SphereTree {
+        &self.end.tree.tree
+    }
+
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> Sphere {
+        if self.cache.is_fresh(id) {
+            return self.cache.spheres[id.index()];
+        }
+        let s = self.sweep(id).swept();
+        self.cache.spheres[id.index()] = s;
+        self.cache.stamp[id.index()] = self.cache.step;
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(x: f32, y: f32, z: f32, r: f32) -> Sphere {
+        Sphere::new(Point::new(x, y, z), r)
+    }
+
+    #[test]
+    fn enclosing_pair_holds_both() {
+        for (a, b) in [
+            (s(0.0, 0.0, 0.0, 1.0), s(3.0, 0.0, 0.0, 0.5)),
+            (s(0.0, 0.0, 0.0, 1.0), s(0.2, 0.1, 0.0, 0.1)),
+            (s(0.1, 0.2, 0.3, 0.01), s(0.1, 0.2, 0.3, 2.0)),
+            (s(1e3, -2e3, 5.0, 0.3), s(1e3 + 0.1, -2e3, 5.0, 0.3)),
+        ] {
+            let e = enclosing_pair(&a, &b);
+            assert!(e.contains_sphere(&a, 0.0) && e.contains_sphere(&b, 0.0));
+            let tight =
+                (distance_f64(&a.center, &b.center) + a.radius as f64 + b.radius as f64) / 2.0;
+            let tight = tight.max(a.radius as f64).max(b.radius as f64);
+            assert!(e.radius as f64 <= tight * (1.0 + 1e-6), "{e:?} vs {tight}");
+        }
+    }
+
+    #[test]
+    fn interpolated_spheres_stay_in_the_swept_one() {
+        let sweep = SphereSweep {
+            start: s(0.0, 0.0, 0.0, 0.1),
+            end: s(1.0, 0.5, 0.0, 0.3),
+        };
+        let w = sweep.swept();
+        for i in 0..=64 {
+            let t = i as f64 / 64.0;
+            assert!(w.contains_sphere(&sweep.at(t), 1e-6), "t = {t}");
+        }
+        assert_eq!(sweep.at(0.0).center, sweep.start.center);
+    }
+}
