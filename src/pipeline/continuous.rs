@@ -19,7 +19,6 @@ use crate::character::{Character, OnDemandSkin, PoseBuffers, SkinningModel};
 use crate::geometry::ccd_root_finder::CcdParams;
 use crate::geometry::ccd_sphere_plane::sweep_meets_plane;
 use crate::geometry::ccd_triangles::MovingTriangle;
-use crate::geometry::exact::orient3;
 use crate::geometry::{Point, Sphere};
 use crate::mesh::{TriMesh, TriangleId};
 use crate::sphere_tree::character::CharacterTree;
@@ -29,7 +28,7 @@ use crate::sphere_tree::swept_rigid::{RigidPath, SweptRigid};
 use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded};
 
-use super::continuous_narrow::{CcdCounters, TimedPair, corners, triangle_pair_toi, wide};
+use super::continuous_narrow::{CcdCounters, TimedPair, corners, leaf_toi, wide};
 use super::driver::FrameCounters;
 use super::{EnvironmentTree, LeafTest, Method};
 
@@ -50,6 +49,10 @@ pub struct CharacterSweep {
     workspace: Workspace,
     leaf_pairs: Vec<LeafPair>,
     warmed_up: bool,
+    /// The start state's refits and skinned vertices when the step began
+    /// (carried over from the previous step's end).
+    start_refits: u64,
+    start_skinned: u64,
 }
 
 /// A static tree as a [`Hierarchy`] through a shared borrow.
@@ -87,6 +90,8 @@ impl CharacterSweep {
             workspace: Workspace::new(),
             leaf_pairs: Vec::new(),
             warmed_up: false,
+            start_refits: 0,
+            start_skinned: 0,
         }
     }
 
@@ -108,14 +113,15 @@ impl CharacterSweep {
         self.cache.begin_step();
     }
 
-    /// Spheres refit this step, at both ends.
+    /// Spheres refit this step, at both ends (the start's refits of the
+    /// previous step, whose end it was, not counted).
     pub fn refits(&self) -> u64 {
-        self.start.refits + self.end.refits
+        self.start.refits - self.start_refits + self.end.refits
     }
 
-    /// Vertices skinned this step, at both ends.
+    /// Vertices skinned this step, at both ends (likewise).
     pub fn skinned(&self) -> u64 {
-        self.skin_start.skinned() + self.skin_end.skinned()
+        self.skin_start.skinned() - self.start_skinned + self.skin_end.skinned()
     }
 
     /// The refit states at the start and the end (valid where refit).
@@ -128,7 +134,7 @@ impl CharacterSweep {
         if body.tree.tree.is_empty() {
             return None;
         }
-        Some(swept(&mut self.start, &mut self.end, &mut self.cache, body).sphere(NodeId::ROOT))
+        Some(swept(&mut self.start, &mut self.end, &self.cache, body).sphere(NodeId::ROOT))
     }
 
     /// The leaf pairs of the last pass.
@@ -138,7 +144,8 @@ impl CharacterSweep {
 
     /// Leaf `id`'s refit spheres at both ends (fresh after a pass reached it).
     fn leaf_sweep(&self, id: NodeId) -> (Sphere, Sphere) {
-        (self.start.spheres[id.index()], self.end.spheres[id.index()])
+        let e = self.cache.ends(id);
+        (e.start, e.end)
     }
 
     /// Character triangle `t` at both ends, skinning its corners on demand.
@@ -195,11 +202,29 @@ impl CharacterSweep {
         {
             self.leaf_pairs.clear();
             let leaf_pairs = &mut self.leaf_pairs;
-            let mut a = swept(&mut self.start, &mut self.end, &mut self.cache, body);
+            let mut a = swept(&mut self.start, &mut self.end, &self.cache, body);
             let ws = &mut self.workspace;
             let mut b = Still(&room.tree);
             let stats = if method.prunes_at_plane() {
-                let guard = room.plane_guard(&mut guard_tests);
+                // The pruned methods' plane guard (`EnvironmentTree::plane_guard`)
+                // on the node's interpolated spheres, found from its tagged
+                // swept sphere; on the swept sphere itself otherwise.
+                let cache = &self.cache;
+                let tests = &mut guard_tests;
+                let guard = |j: NodeId, s: &Sphere| {
+                    if !room.is_division_leaf(j) {
+                        return true;
+                    }
+                    *tests += 1;
+                    match (cache.node_of(s), room.division_node[j.index()]) {
+                        (Some(id), Some((d, _))) => {
+                            let e = cache.ends(id);
+                            let big = mesh.triangle(room.divisions[d as usize].original);
+                            sweep_meets_plane(&e.start, &e.end, &big).is_some()
+                        }
+                        _ => room.leaf_meets_plane(j, s) == Some(true),
+                    }
+                };
                 traverse_guarded(&mut a, &mut b, ws, guard, |p| leaf_pairs.push(p))
             } else {
                 traverse(&mut a, &mut b, ws, |p| leaf_pairs.push(p))
@@ -236,15 +261,11 @@ impl CharacterSweep {
             c.tri_tri += 1;
             let a = self.moving_triangle(body, p.primitive_a);
             let still = corners(&big);
-            if strictly_one_side(&a, &still) {
-                ccd.plane_side_skips += 1;
-                continue;
-            }
             let b = MovingTriangle {
                 start: still,
                 end: still,
             };
-            if let Some(toi) = triangle_pair_toi(&a, &b, params, ccd) {
+            if let Some(toi) = leaf_toi(&a, &b, true, params, ccd) {
                 out.push(TimedPair {
                     a: p.primitive_a,
                     b: p.primitive_b,
@@ -286,7 +307,7 @@ impl CharacterSweep {
         {
             self.leaf_pairs.clear();
             let leaf_pairs = &mut self.leaf_pairs;
-            let mut a = swept(&mut self.start, &mut self.end, &mut self.cache, body);
+            let mut a = swept(&mut self.start, &mut self.end, &self.cache, body);
             let ws = &mut self.workspace;
             let mut b = SweptRigid {
                 tree: &object.tree,
@@ -304,7 +325,7 @@ impl CharacterSweep {
             c.tri_tri += 1;
             let a = self.moving_triangle(body, p.primitive_a);
             let b = posed_triangle(mesh, p.primitive_b, &path.from, &path.to);
-            if let Some(toi) = triangle_pair_toi(&a, &b, params, ccd) {
+            if let Some(toi) = leaf_toi(&a, &b, false, params, ccd) {
                 out.push(TimedPair {
                     a: p.primitive_a,
                     b: p.primitive_b,
@@ -322,26 +343,11 @@ impl CharacterSweep {
     }
 }
 
-/// Whether all six corners of `a` (both ends) lie strictly on one side of
-/// the still triangle `t`'s plane (exact predicates): then `a`, which stays
-/// in their convex hull over the step, never meets `t`.
-fn strictly_one_side(a: &MovingTriangle<f64>, t: &[[f64; 3]; 3]) -> bool {
-    let mut side = 0i8;
-    for p in a.start.iter().chain(&a.end) {
-        let s = orient3(t[0], t[1], t[2], *p);
-        if s == 0 || (side != 0 && s != side) {
-            return false;
-        }
-        side = s;
-    }
-    true
-}
-
 /// The swept hierarchy of a step over one character's states.
 fn swept<'a>(
     start: &'a mut RefitState,
     end: &'a mut RefitState,
-    cache: &'a mut SweptCache,
+    cache: &'a SweptCache,
     body: &Body<'a>,
 ) -> SweptCharacter<'a> {
     SweptCharacter {
@@ -398,8 +404,8 @@ pub fn detect_characters(
     let skinned = a.skinned() + b.skinned();
     let t0 = std::time::Instant::now();
     {
-        let mut ha = swept(&mut a.start, &mut a.end, &mut a.cache, body_a);
-        let mut hb = swept(&mut b.start, &mut b.end, &mut b.cache, body_b);
+        let mut ha = swept(&mut a.start, &mut a.end, &a.cache, body_a);
+        let mut hb = swept(&mut b.start, &mut b.end, &b.cache, body_b);
         leaf_pairs.clear();
         let stats = traverse(&mut ha, &mut hb, workspace, |p| leaf_pairs.push(p));
         c.sphere_sphere = stats.sphere_tests;
@@ -411,7 +417,7 @@ pub fn detect_characters(
         c.tri_tri += 1;
         let ta = a.moving_triangle(body_a, p.primitive_a);
         let tb = b.moving_triangle(body_b, p.primitive_b);
-        if let Some(toi) = triangle_pair_toi(&ta, &tb, params, ccd) {
+        if let Some(toi) = leaf_toi(&ta, &tb, false, params, ccd) {
             out.push(TimedPair {
                 a: p.primitive_a,
                 b: p.primitive_b,

@@ -20,7 +20,7 @@ use serde::Serialize;
 
 use crate::geometry::ccd_root_finder::CcdParams;
 use crate::geometry::ccd_triangles::{MovingTriangle, triangles};
-use crate::geometry::exact::corners_intersect_exact;
+use crate::geometry::exact::{corners_intersect_exact, orient3};
 use crate::geometry::{Point, Triangle};
 
 /// Counters of the continuous leaf tests (beside `FrameCounters`, whose
@@ -92,4 +92,36 @@ pub fn triangle_pair_toi(
         c.unresolved += 1;
     }
     Some(hit.toi)
+}
+
+/// Whether all six corners of `a` (both ends) lie strictly on one side of
+/// the still triangle `t`'s plane (exact predicates): then `a`, which stays
+/// in their convex hull over the step, never meets `t`.
+pub fn strictly_one_side(a: &MovingTriangle<f64>, t: &[[f64; 3]; 3]) -> bool {
+    let mut side = 0i8;
+    for p in a.start.iter().chain(&a.end) {
+        let s = orient3(t[0], t[1], t[2], *p);
+        if s == 0 || (side != 0 && s != side) {
+            return false;
+        }
+        side = s;
+    }
+    true
+}
+
+/// The leaf test of a triangle pair (module doc, steps 1–3 without the
+/// sphere): `b` still (the room) or moving. The pipeline answers its pairs
+/// with exactly this.
+pub fn leaf_toi(
+    a: &MovingTriangle<f64>,
+    b: &MovingTriangle<f64>,
+    b_still: bool,
+    params: &CcdParams,
+    c: &mut CcdCounters,
+) -> Option<f64> {
+    if b_still && strictly_one_side(a, &b.start) {
+        c.plane_side_skips += 1;
+        return None;
+    }
+    triangle_pair_toi(a, b, params, c)
 }

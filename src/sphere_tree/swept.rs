@@ -19,6 +19,8 @@
 //! [`Refitter`]s, each with its own refit state and pose), and keeps the
 //! swept sphere for the rest of the step.
 
+use std::cell::Cell;
+
 use nalgebra::Matrix4;
 
 use crate::geometry::enclosing::round_up;
@@ -91,19 +93,68 @@ impl SphereSweep {
     }
 }
 
-/// Swept spheres computed this step (a stamp per node, as refit).
-#[derive(Clone, Debug)]
+/// Low bits of each of a tagged sphere's four numbers that carry its node.
+const TAG_BITS: u32 = 5;
+const TAG_MASK: u32 = (1 << TAG_BITS) - 1;
+/// Nodes a tag can name.
+pub const MAX_TAGGED_NODES: usize = 1 << (4 * TAG_BITS);
+
+/// `s` grown a little so that the lowest [`TAG_BITS`] bits of its centre's
+/// coordinates and of its radius spell `id`: the centre moves by at most
+/// 31 units in the last place of each coordinate, and the radius grows by
+/// that shift (measured in `f64`) and up to 31 units in its last place, so
+/// the tagged sphere holds `s`.
+fn tag(s: &Sphere, id: u32) -> Sphere {
+    let part = |k: u32| (id >> (k * TAG_BITS)) & TAG_MASK;
+    let set = |x: f32, k: u32| f32::from_bits((x.to_bits() & !TAG_MASK) | part(k));
+    let c = Point::new(set(s.center.x, 0), set(s.center.y, 1), set(s.center.z, 2));
+    let need = round_up((distance_f64(&c, &s.center) + s.radius as f64) * (1.0 + F64_SLACK));
+    let bits = need.to_bits();
+    let mut r = (bits & !TAG_MASK) | part(3);
+    if r < bits {
+        r += 1 << TAG_BITS;
+    }
+    Sphere::new(c, f32::from_bits(r))
+}
+
+/// The node a tagged sphere names.
+fn untag(s: &Sphere) -> u32 {
+    let part = |x: f32, k: u32| (x.to_bits() & TAG_MASK) << (k * TAG_BITS);
+    part(s.center.x, 0) | part(s.center.y, 1) | part(s.center.z, 2) | part(s.radius, 3)
+}
+
+/// This step's swept spheres and the refit spheres at both ends behind
+/// them (a stamp per node, as refit). Shared through `&` (cells), so a
+/// traversal's guard can read what its hierarchy computes.
+///
+/// The swept spheres handed to traversal are **tagged**: grown by a few
+/// units in the last place so that their low bits name their node
+/// ([`SweptCache::node_of`]). A guard given only a sphere can then use the
+/// node's two end spheres, whose interpolation bounds the node far more
+/// tightly than the ball around both (a limb moving along a wall sweeps a
+/// capsule, not a ball).
+#[derive(Debug)]
 pub struct SweptCache {
-    pub spheres: Vec<Sphere>,
-    stamp: Vec<u32>,
+    swept: Vec<Cell<Sphere>>,
+    ends: Vec<Cell<SphereSweep>>,
+    stamp: Vec<Cell<u32>>,
     step: u32,
 }
 
 impl SweptCache {
     pub fn new(nodes: usize) -> Self {
+        let zero = Sphere::new(Point::origin(), 0.0);
         Self {
-            spheres: vec![Sphere::new(Point::origin(), 0.0); nodes],
-            stamp: vec![0; nodes],
+            swept: (0..nodes).map(|_| Cell::new(zero)).collect(),
+            ends: (0..nodes)
+                .map(|_| {
+                    Cell::new(SphereSweep {
+                        start: zero,
+                        end: zero,
+                    })
+                })
+                .collect(),
+            stamp: (0..nodes).map(|_| Cell::new(0)).collect(),
             step: 0,
         }
     }
@@ -112,7 +163,7 @@ impl SweptCache {
     pub fn begin_step(&mut self) {
         self.step = self.step.wrapping_add(1);
         if self.step == 0 {
-            self.stamp.fill(0);
+            self.stamp.iter().for_each(|s| s.set(0));
             self.step = 1;
         }
     }
@@ -120,7 +171,47 @@ impl SweptCache {
     /// Whether node `id`'s swept sphere was computed this step.
     #[inline]
     pub fn is_fresh(&self, id: NodeId) -> bool {
-        self.stamp[id.index()] == self.step
+        self.stamp[id.index()].get() == self.step
+    }
+
+    /// Node `id`'s refit spheres at both ends (valid where fresh).
+    #[inline]
+    pub fn ends(&self, id: NodeId) -> SphereSweep {
+        self.ends[id.index()].get()
+    }
+
+    /// Node `id`'s swept sphere, as handed to traversal (valid where fresh).
+    #[inline]
+    pub fn swept(&self, id: NodeId) -> Sphere {
+        self.swept[id.index()].get()
+    }
+
+    /// The node whose swept sphere this step is exactly `s`, if any.
+    #[inline]
+    pub fn node_of(&self, s: &Sphere) -> Option<NodeId> {
+        let id = untag(s) as usize;
+        let same = |a: &Sphere| {
+            a.center.x.to_bits() == s.center.x.to_bits()
+                && a.center.y.to_bits() == s.center.y.to_bits()
+                && a.center.z.to_bits() == s.center.z.to_bits()
+                && a.radius.to_bits() == s.radius.to_bits()
+        };
+        (id < self.swept.len() && self.stamp[id].get() == self.step && same(&self.swept[id].get()))
+            .then_some(NodeId(id as u32))
+    }
+
+    fn store(&self, id: NodeId, ends: SphereSweep) -> Sphere {
+        let i = id.index();
+        let plain = ends.swept();
+        let s = if self.swept.len() <= MAX_TAGGED_NODES {
+            tag(&plain, id.0)
+        } else {
+            plain
+        };
+        self.swept[i].set(s);
+        self.ends[i].set(ends);
+        self.stamp[i].set(self.step);
+        s
     }
 }
 
@@ -133,7 +224,7 @@ pub struct SweptCharacter<'a> {
     /// The refit at the end (this frame's pose).
     pub end: Refitter<'a>,
     pub end_base: Matrix4<f32>,
-    pub cache: &'a mut SweptCache,
+    pub cache: &'a SweptCache,
 }
 
 impl SweptCharacter<'_> {
@@ -169,12 +260,10 @@ impl Hierarchy for SweptCharacter<'_> {
     #[inline]
     fn sphere(&mut self, id: NodeId) -> Sphere {
         if self.cache.is_fresh(id) {
-            return self.cache.spheres[id.index()];
+            return self.cache.swept(id);
         }
-        let s = self.sweep(id).swept();
-        self.cache.spheres[id.index()] = s;
-        self.cache.stamp[id.index()] = self.cache.step;
-        s
+        let ends = self.sweep(id);
+        self.cache.store(id, ends)
     }
 }
 
@@ -215,5 +304,32 @@ mod tests {
             assert!(w.contains_sphere(&sweep.at(t), 1e-6), "t = {t}");
         }
         assert_eq!(sweep.at(0.0).center, sweep.start.center);
+    }
+
+    #[test]
+    fn tags_name_their_node_and_hold_the_sphere() {
+        for (i, sphere) in [
+            s(0.0, 0.0, 0.0, 0.0),
+            s(1.5, -2.25, 3.0, 0.01),
+            s(-1e3, 5e-3, 7.0, 2.0),
+            s(1e-30, -0.0, 1e5, 1e-20),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            for id in [0u32, 1, 31, 32, 12345, (MAX_TAGGED_NODES - 1) as u32] {
+                let t = tag(&sphere, id);
+                assert_eq!(untag(&t), id, "{i}");
+                assert!(
+                    t.contains_sphere(&sphere, 0.0),
+                    "{i} {id}: {t:?} {sphere:?}"
+                );
+                let grown = t.radius as f64 - sphere.radius as f64;
+                assert!(
+                    grown
+                        <= 1e-4 * (1.0 + sphere.center.coords.norm() as f64 + sphere.radius as f64)
+                );
+            }
+        }
     }
 }
