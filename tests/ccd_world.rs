@@ -145,7 +145,7 @@ fn brute_force(bodies: &StepBodies<'_>, params: &CcdParams) -> Vec<(Key, f64)> {
             }
         }
     }
-    out.sort_by(|x, y| x.0.cmp(&y.0));
+    out.sort_by_key(|x| x.0);
     out
 }
 
@@ -160,7 +160,7 @@ fn keys(o: &cornertree::world::ContinuousOutcome) -> Vec<(Key, f64)> {
         .chain(o.object_pairs.iter().map(|p| (object(&p.pair), p.toi)))
         .chain(o.character_pairs.iter().map(|p| (chars(&p.pair), p.toi)))
         .collect();
-    v.sort_by(|x, y| x.0.cmp(&y.0));
+    v.sort_by_key(|x| x.0);
     v
 }
 
