@@ -92,9 +92,10 @@ mod tests {
 
     #[test]
     fn falling_through_between_frames() {
-        // Above at the start, below at the end: meets at t = 0.4 (0.2 − t·0.5 = 0).
-        let toi = sweep_meets_plane(&ball(0.3, 0.1), &ball(-0.2, 0.1), &floor()).unwrap();
-        assert!((toi - 0.4).abs() < 1e-9 && toi <= 0.4, "{toi}");
+        // Above at the start, below at the end: meets at t = 0.5
+        // (0.375 − 0.5 t = 0.125).
+        let toi = sweep_meets_plane(&ball(0.375, 0.125), &ball(-0.125, 0.125), &floor()).unwrap();
+        assert!((toi - 0.5).abs() < 1e-9 && toi <= 0.5, "{toi}");
     }
 
     #[test]
@@ -115,9 +116,10 @@ mod tests {
 
     #[test]
     fn growing_into_the_plane() {
-        // Still centre, radius growing from 0.1 to 0.5: meets when r = 0.3, t = 0.5.
-        let toi = sweep_meets_plane(&ball(0.3, 0.1), &ball(0.3, 0.5), &floor()).unwrap();
-        assert!((toi - 0.5).abs() < 1e-9, "{toi}");
+        // Still centre, radius growing from 0.125 to 0.625: meets when
+        // r = 0.375, t = 0.5.
+        let toi = sweep_meets_plane(&ball(0.375, 0.125), &ball(0.375, 0.625), &floor()).unwrap();
+        assert!((toi - 0.5).abs() < 1e-9 && toi <= 0.5, "{toi}");
     }
 
     #[test]

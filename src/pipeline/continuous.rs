@@ -18,6 +18,7 @@ use nalgebra::Isometry3;
 use crate::character::{Character, OnDemandSkin, PoseBuffers, SkinningModel};
 use crate::geometry::ccd_root_finder::CcdParams;
 use crate::geometry::ccd_sphere_plane::sweep_meets_plane;
+use crate::geometry::ccd_sphere_sphere::sweeps_meet;
 use crate::geometry::ccd_triangles::MovingTriangle;
 use crate::geometry::{Point, Sphere};
 use crate::mesh::{TriMesh, TriangleId};
@@ -198,38 +199,48 @@ impl CharacterSweep {
         let refits = self.refits();
         let skinned = self.skinned();
         let t0 = std::time::Instant::now();
-        let mut guard_tests = 0u64;
+        let (mut guard_tests, mut capsule_tests) = (0u64, 0u64);
         {
             self.leaf_pairs.clear();
             let leaf_pairs = &mut self.leaf_pairs;
             let mut a = swept(&mut self.start, &mut self.end, &self.cache, body);
             let ws = &mut self.workspace;
             let mut b = Still(&room.tree);
-            let stats = if method.prunes_at_plane() {
-                // The pruned methods' plane guard (`EnvironmentTree::plane_guard`)
-                // on the node's interpolated spheres, found from its tagged
-                // swept sphere; on the swept sphere itself otherwise.
-                let cache = &self.cache;
-                let tests = &mut guard_tests;
-                let guard = |j: NodeId, s: &Sphere| {
-                    if !room.is_division_leaf(j) {
-                        return true;
+            // Traversal tests swept spheres; the guard refines each pair it
+            // keeps with the character node's interpolated spheres (found
+            // from its tagged swept sphere): against the room node's sphere
+            // and, in the pruned methods, against the plane of a big
+            // triangle for every node of its division (all its leaves name
+            // that triangle). Untagged, it is the discrete guard.
+            let cache = &self.cache;
+            let prunes = method.prunes_at_plane();
+            let nodes = room.tree.nodes();
+            let (tests, spheres) = (&mut guard_tests, &mut capsule_tests);
+            let guard = |j: NodeId, s: &Sphere| match cache.node_of(s) {
+                Some(id) => {
+                    let e = cache.ends(id);
+                    let sj = nodes[j.index()].sphere;
+                    *spheres += 1;
+                    if !sweeps_meet(&e.start, &e.end, &sj, &sj) {
+                        return false;
                     }
-                    *tests += 1;
-                    match (cache.node_of(s), room.division_node[j.index()]) {
-                        (Some(id), Some((d, _))) => {
-                            let e = cache.ends(id);
+                    match room.division_node[j.index()] {
+                        Some((d, _)) if prunes => {
+                            *tests += 1;
                             let big = mesh.triangle(room.divisions[d as usize].original);
                             sweep_meets_plane(&e.start, &e.end, &big).is_some()
                         }
-                        _ => room.leaf_meets_plane(j, s) == Some(true),
+                        _ => true,
                     }
-                };
-                traverse_guarded(&mut a, &mut b, ws, guard, |p| leaf_pairs.push(p))
-            } else {
-                traverse(&mut a, &mut b, ws, |p| leaf_pairs.push(p))
+                }
+                None if prunes && room.is_division_leaf(j) => {
+                    *tests += 1;
+                    room.leaf_meets_plane(j, s) == Some(true)
+                }
+                None => true,
             };
-            c.sphere_sphere = stats.sphere_tests;
+            let stats = traverse_guarded(&mut a, &mut b, ws, guard, |p| leaf_pairs.push(p));
+            c.sphere_sphere = stats.sphere_tests + capsule_tests;
         }
         c.time.traversal_ms = t0.elapsed().as_secs_f64() * 1e3;
         c.plane_sphere = guard_tests;
@@ -407,8 +418,19 @@ pub fn detect_characters(
         let mut ha = swept(&mut a.start, &mut a.end, &a.cache, body_a);
         let mut hb = swept(&mut b.start, &mut b.end, &b.cache, body_b);
         leaf_pairs.clear();
-        let stats = traverse(&mut ha, &mut hb, workspace, |p| leaf_pairs.push(p));
-        c.sphere_sphere = stats.sphere_tests;
+        // Both nodes' interpolated spheres, as against the room.
+        let (ca, cb) = (&a.cache, &b.cache);
+        let mut capsule_tests = 0u64;
+        let guard = |j: NodeId, s: &Sphere| match ca.node_of(s) {
+            Some(id) if cb.is_fresh(j) => {
+                capsule_tests += 1;
+                let (ea, eb) = (ca.ends(id), cb.ends(j));
+                sweeps_meet(&ea.start, &ea.end, &eb.start, &eb.end)
+            }
+            _ => true,
+        };
+        let stats = traverse_guarded(&mut ha, &mut hb, workspace, guard, |p| leaf_pairs.push(p));
+        c.sphere_sphere = stats.sphere_tests + capsule_tests;
     }
     c.time.traversal_ms = t0.elapsed().as_secs_f64() * 1e3;
     let t0 = std::time::Instant::now();

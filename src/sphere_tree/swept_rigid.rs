@@ -108,35 +108,35 @@ mod tests {
     use nalgebra::{Translation3, UnitQuaternion};
 
     #[test]
-    fn half_a_turn_stays_inside() {
-        // A point 1 m from a vertical axis turning half a turn: its ends
-        // are a diameter apart, its path a half circle.
+    fn half_a_turn_while_moving_stays_inside() {
+        // A point 1 m from a vertical axis that moves 1 m along X while
+        // turning half a turn: the ends are 1 m apart, the path swings 1 m
+        // out to the side half-way.
         let s = Sphere::new(Point::new(1.0, 0.0, 0.0), 0.01);
-        let turn = |deg: f32| {
+        let at = |f: f32| {
             Isometry3::from_parts(
-                Translation3::identity(),
-                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), deg.to_radians()),
+                Translation3::new(f, 0.0, 0.0),
+                UnitQuaternion::from_axis_angle(&Vector3::y_axis(), std::f32::consts::PI * f),
             )
         };
         let path = RigidPath {
-            from: turn(0.0),
-            to: turn(90.0),
-            travel: 0.0,
-            turn: std::f64::consts::FRAC_PI_2,
+            from: at(0.0),
+            to: at(1.0),
+            travel: 1.0,
+            turn: std::f64::consts::PI,
             axis_point: Vector3::zeros(),
         };
         let w = path.sweep(&s);
-        for i in 0..=32 {
-            let p = turn(90.0 * i as f32 / 32.0) * s.center;
+        for i in 0..=64 {
+            let p = at(i as f32 / 64.0) * s.center;
             assert!(w.contains_point(&p, 0.0), "{i}: {p:?} outside {w:?}");
         }
-        // The chord's ball alone would not do.
+        // The ball around both ends alone would not do.
         let chord = super::super::swept::enclosing_pair(
             &sphere_in_frame(&s, &path.from),
             &sphere_in_frame(&s, &path.to),
         );
-        let mid = turn(45.0) * s.center;
-        assert!(!chord.contains_point(&mid, 0.0));
+        assert!(!chord.contains_point(&(at(0.5) * s.center), 0.0));
     }
 
     #[test]
