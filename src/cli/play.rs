@@ -12,7 +12,7 @@ use cornertree::character::SkinningModel;
 use cornertree::pipeline::LeafTest;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::Pipeline;
-use cornertree::record::blueprint::{run_blueprint, world_blueprint};
+use cornertree::record::blueprint::{ccd_blueprint, run_blueprint, world_blueprint};
 use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
 use cornertree::record::world_recorder;
@@ -271,6 +271,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         })
         .collect();
 
+    let ccd_on = args.ccd || world.scene.ccd;
     // One recording per method (one character in a static room).
     let record_options = RecordOptions {
         all_spheres: world.scene.recording.all_spheres,
@@ -313,7 +314,14 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         for mw in mws.iter_mut() {
             let method = mw.method;
             let level = layout::display_level(&mw.pipeline(0).character_tree.tree);
-            let blueprint = if is_world {
+            let blueprint = if ccd_on {
+                let bodies: Vec<String> = character_paths
+                    .iter()
+                    .chain(&object_paths)
+                    .cloned()
+                    .collect();
+                ccd_blueprint(&bodies)
+            } else if is_world {
                 world_blueprint(&character_paths, &object_paths, level)
             } else {
                 run_blueprint(level)
@@ -352,7 +360,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     }
 
     // Continuous detection of every step (`--ccd`, `ccd = true`).
-    let mut ccd = (args.ccd || world.scene.ccd).then(|| {
+    let mut ccd = ccd_on.then(|| {
         let substeps = args.ccd_substeps.unwrap_or(world.scene.ccd_substeps);
         let recorded: Vec<bool> = recorders.iter().map(Option::is_some).collect();
         ContinuousObserver::new(&world, substeps, !args.no_truth, &recorded)

@@ -1,8 +1,9 @@
 //! What `run --ccd` adds to a method's recording at each frame step
 //! (docs/recordings.md, "Continuous detection"; paths in [`super::layout`]):
-//! the swept spheres of the character leaves that touch during the step,
-//! every body posed at a time of impact with the touching pairs there, and
-//! counters. Under `cd/`, so every 3D view of the blueprints shows them.
+//! the swept spheres of the character leaves that touch during the step
+//! (wireframes), the characters and the touching objects posed at a time of
+//! impact with the pairs touching there (the character's triangles filled,
+//! the other side's outlined), and counters. Under `cd/`, so every 3D view of the blueprints shows them.
 //!
 //! The time of impact shown is the earliest among the pairs the method's
 //! discrete frames missed at both ends (tunnelling), else the step's
@@ -135,25 +136,12 @@ impl CcdRecorder {
                     .with_albedo_factor(layout::CCD_TOI_COLOR),
             )?;
         }
-        for (o_i, path) in self.objects.iter().enumerate() {
-            let mesh = &v.scene.objects[o_i].mesh;
-            let (from, to) = (&v.object_start[o_i], &v.object_end[o_i]);
-            let verts = mesh
-                .positions()
-                .iter()
-                .map(|p| lerp(&(from * p), &(to * p), t));
-            rec.log(
-                path.as_str(),
-                &rerun::Mesh3D::new(verts)
-                    .with_triangle_indices(mesh.indices().iter().copied())
-                    .with_albedo_factor(layout::OBJECT_COLOR),
-            )?;
-        }
-
         // The pairs touching there, both triangles at the time of impact,
         // and the swept spheres of the character leaves of every pair.
         let mut verts: Vec<[f32; 3]> = Vec::new();
+        let mut others: Vec<[[f32; 3]; 4]> = Vec::new();
         let (mut centers, mut radii) = (Vec::new(), Vec::new());
+        let mut involved = vec![false; self.objects.len()];
         let mut shown = 0usize;
         for p in &pairs {
             let (c, tri) = match p.pair {
@@ -161,6 +149,9 @@ impl CcdRecorder {
                 StepPair::Objects(q) => (q.character, q.triangle),
                 StepPair::Characters(q) => (q.a, q.triangle_a),
             };
+            if let StepPair::Objects(q) = p.pair {
+                involved[q.object as usize] = true;
+            }
             let leaf = self.leaf_of[c as usize][tri as usize];
             if leaf != u32::MAX {
                 let (s0, s1) = v.sweeps[c as usize].refit_states();
@@ -187,14 +178,14 @@ impl CcdRecorder {
                 })
             };
             verts.extend(char_tri(c, tri));
-            match p.pair {
+            let other = match p.pair {
                 StepPair::Environment(q) => {
                     let m = &v.scene.environment.mesh;
                     let idx = m.indices()[q.room_triangle as usize];
-                    verts.extend(idx.map(|i| {
+                    idx.map(|i| {
                         let x = m.positions()[i as usize];
                         [x.x, x.y, x.z]
-                    }));
+                    })
                 }
                 StepPair::Objects(q) => {
                     let m = &v.scene.objects[q.object as usize].mesh;
@@ -203,14 +194,34 @@ impl CcdRecorder {
                         &v.object_end[q.object as usize],
                     );
                     let idx = m.indices()[q.object_triangle as usize];
-                    verts.extend(idx.map(|i| {
+                    idx.map(|i| {
                         let x = m.positions()[i as usize];
                         lerp(&(from * x), &(to * x), toi as f32)
-                    }));
+                    })
                 }
-                StepPair::Characters(q) => verts.extend(char_tri(q.b, q.triangle_b)),
-            }
+                StepPair::Characters(q) => char_tri(q.b, q.triangle_b),
+            };
+            others.push([other[0], other[1], other[2], other[0]]);
         }
+        // The objects touching during the step, at the time of impact.
+        for (o_i, path) in self.objects.iter().enumerate() {
+            if !involved[o_i] {
+                continue;
+            }
+            let mesh = &v.scene.objects[o_i].mesh;
+            let (from, to) = (&v.object_start[o_i], &v.object_end[o_i]);
+            let verts = mesh
+                .positions()
+                .iter()
+                .map(|p| lerp(&(from * p), &(to * p), t));
+            rec.log(
+                path.as_str(),
+                &rerun::Mesh3D::new(verts)
+                    .with_triangle_indices(mesh.indices().iter().copied())
+                    .with_albedo_factor(layout::OBJECT_COLOR),
+            )?;
+        }
+
         let tris = (0..verts.len() as u32 / 3).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]);
         rec.log(
             layout::CCD_TOI_PAIRS,
@@ -218,11 +229,19 @@ impl CcdRecorder {
                 .with_triangle_indices(tris)
                 .with_albedo_factor(layout::CCD_PAIR_COLOR),
         )?;
+        // The other side as outlines: an object's or the room's triangles
+        // can be far bigger than the character's.
+        rec.log(
+            layout::CCD_TOI_OTHER,
+            &rerun::LineStrips3D::new(others)
+                .with_colors([layout::CCD_OTHER_COLOR])
+                .with_radii([rerun::Radius::new_ui_points(1.5)]),
+        )?;
         rec.log(
             layout::CCD_SWEPT,
-            &rerun::Points3D::new(centers)
-                .with_radii(radii)
-                .with_colors([layout::CCD_SWEPT_COLOR]),
+            &rerun::Ellipsoids3D::from_centers_and_radii(centers, radii)
+                .with_colors([layout::CCD_SWEPT_COLOR])
+                .with_fill_mode(rerun::FillMode::MajorWireframe),
         )?;
         rec.log(
             layout::EVENTS,
