@@ -9,7 +9,7 @@
 //! at an end or at its vertex.
 //!
 //! Conservative in floating point: evaluated in `f64` from `f32` inputs,
-//! the comparison is relaxed by `10⁻¹²` of `(|q| + |v| + a + |b|)²`, far
+//! the comparison is relaxed by `10⁻¹²` of `(|q|₁ + |v|₁ + a + |b|)²`, far
 //! above the few roundings of each term. So `false` means the spheres stay
 //! apart over the whole step.
 //!
@@ -22,6 +22,7 @@ const SLACK: f64 = 1e-12;
 
 /// Whether sphere `a` (from `a0` to `a1`) and sphere `b` (from `b0` to
 /// `b1`), each interpolated linearly over the step, meet at some time.
+#[inline]
 pub fn sweeps_meet(a0: &Sphere, a1: &Sphere, b0: &Sphere, b1: &Sphere) -> bool {
     let w = |s: &Sphere| [s.center.x as f64, s.center.y as f64, s.center.z as f64];
     let (pa0, pa1, pb0, pb1) = (w(a0), w(a1), w(b0), w(b1));
@@ -33,7 +34,9 @@ pub fn sweeps_meet(a0: &Sphere, a1: &Sphere, b0: &Sphere, b1: &Sphere) -> bool {
     let (qq, qv, vv) = (dot(&q, &q), dot(&q, &v), dot(&v, &v));
     // f(t) = A t² + 2 B t + C.
     let (qa, qb, qc) = (vv - b * b, qv - a * b, qq - a * a);
-    let scale = qq.sqrt() + vv.sqrt() + a + b.abs();
+    // 1-norms bound the lengths (no square root).
+    let l1 = |x: &[f64; 3]| x[0].abs() + x[1].abs() + x[2].abs();
+    let scale = l1(&q) + l1(&v) + a + b.abs();
     let slack = SLACK * scale * scale;
     let f = |t: f64| (qa * t + 2.0 * qb) * t + qc;
     if qc <= slack || f(1.0) <= slack {

@@ -17,7 +17,7 @@ use nalgebra::Isometry3;
 
 use crate::character::{Character, OnDemandSkin, PoseBuffers, SkinningModel};
 use crate::geometry::ccd_root_finder::CcdParams;
-use crate::geometry::ccd_sphere_plane::sweep_meets_plane;
+use crate::geometry::ccd_sphere_plane::{StillPlane, sweep_meets_plane};
 use crate::geometry::ccd_sphere_sphere::sweeps_meet;
 use crate::geometry::ccd_triangles::MovingTriangle;
 use crate::geometry::{Point, Sphere};
@@ -112,6 +112,8 @@ impl CharacterSweep {
             .begin_frame_with_base(&pose.end.skin, &pose.end.base);
         self.skin_end.begin_frame();
         self.cache.begin_step();
+        self.start_refits = self.start.refits;
+        self.start_skinned = self.skin_start.skinned();
     }
 
     /// Spheres refit this step, at both ends (the start's refits of the
@@ -183,12 +185,14 @@ impl CharacterSweep {
 
     /// The pass against the still room, after [`Self::begin_step`]: fills
     /// `out` with the pairs `(character triangle, room triangle)` that touch
-    /// during the step, sorted by pair, distinct.
+    /// during the step, sorted by pair, distinct. `planes` are the planes
+    /// of the room's divisions' big triangles ([`room_planes`]).
     #[allow(clippy::too_many_arguments)]
     pub fn detect_room(
         &mut self,
         body: &Body<'_>,
         room: &EnvironmentTree,
+        planes: &[StillPlane],
         mesh: &TriMesh,
         method: Method,
         params: &CcdParams,
@@ -219,19 +223,15 @@ impl CharacterSweep {
             let guard = |j: NodeId, s: &Sphere| match cache.node_of(s) {
                 Some(id) => {
                     let e = cache.ends(id);
+                    if prunes && let Some((d, _)) = room.division_node[j.index()] {
+                        *tests += 1;
+                        if planes[d as usize].sweep_toi(&e.start, &e.end).is_none() {
+                            return false;
+                        }
+                    }
                     let sj = nodes[j.index()].sphere;
                     *spheres += 1;
-                    if !sweeps_meet(&e.start, &e.end, &sj, &sj) {
-                        return false;
-                    }
-                    match room.division_node[j.index()] {
-                        Some((d, _)) if prunes => {
-                            *tests += 1;
-                            let big = mesh.triangle(room.divisions[d as usize].original);
-                            sweep_meets_plane(&e.start, &e.end, &big).is_some()
-                        }
-                        _ => true,
-                    }
+                    sweeps_meet(&e.start, &e.end, &sj, &sj)
                 }
                 None if prunes && room.is_division_leaf(j) => {
                     *tests += 1;
@@ -352,6 +352,15 @@ impl CharacterSweep {
         c.time.narrow_ms = t0.elapsed().as_secs_f64() * 1e3;
         c
     }
+}
+
+/// The plane of every division's big triangle of `room` (whose mesh is
+/// `mesh`), prepared once for [`CharacterSweep::detect_room`].
+pub fn room_planes(room: &EnvironmentTree, mesh: &TriMesh) -> Vec<StillPlane> {
+    room.divisions
+        .iter()
+        .map(|d| StillPlane::new(&mesh.triangle(d.original)))
+        .collect()
 }
 
 /// The swept hierarchy of a step over one character's states.

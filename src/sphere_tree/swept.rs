@@ -35,28 +35,41 @@ use super::traverse::Hierarchy;
 /// Relative growth covering the `f64` arithmetic of a radius (as refit).
 const F64_SLACK: f64 = 1e-12;
 
-/// The smallest ball holding both `a` and `b`, with its centre rounded to
-/// `f32` and its radius measured again from that centre in `f64` and rounded
-/// up, so both are inside without tolerance.
+/// The smallest ball holding both `a` and `b`, its centre rounded to `f32`
+/// and its radius grown by that rounding (in `f64`) and rounded up, so both
+/// are inside without tolerance.
 pub fn enclosing_pair(a: &Sphere, b: &Sphere) -> Sphere {
     let (ra, rb) = (a.radius as f64, b.radius as f64);
     let d = distance_f64(&a.center, &b.center);
-    let center = if d + rb <= ra {
-        a.center
-    } else if d + ra <= rb {
-        b.center
-    } else {
-        // On the segment, `(d + rb − ra) / 2` from `a`'s centre.
-        let f = ((d + rb - ra) / (2.0 * d)).clamp(0.0, 1.0);
-        let lerp = |x: f32, y: f32| (x as f64 + (y as f64 - x as f64) * f) as f32;
-        Point::new(
-            lerp(a.center.x, b.center.x),
-            lerp(a.center.y, b.center.y),
-            lerp(a.center.z, b.center.z),
-        )
-    };
-    let r = (distance_f64(&center, &a.center) + ra).max(distance_f64(&center, &b.center) + rb);
+    if d + rb <= ra {
+        return grown(a, b);
+    }
+    if d + ra <= rb {
+        return grown(b, a);
+    }
+    // On the segment, `(d + rb − ra) / 2` from `a`'s centre, radius
+    // `(d + ra + rb) / 2`; the centre's rounding to `f32` is added to the
+    // radius (its 1-norm bounds its length).
+    let f = ((d + rb - ra) / (2.0 * d)).clamp(0.0, 1.0);
+    let exact = |x: f32, y: f32| x as f64 + (y as f64 - x as f64) * f;
+    let e = [
+        exact(a.center.x, b.center.x),
+        exact(a.center.y, b.center.y),
+        exact(a.center.z, b.center.z),
+    ];
+    let center = Point::new(e[0] as f32, e[1] as f32, e[2] as f32);
+    let shift = (center.x as f64 - e[0]).abs()
+        + (center.y as f64 - e[1]).abs()
+        + (center.z as f64 - e[2]).abs();
+    let r = (d + ra + rb) * 0.5 + shift;
     Sphere::new(center, round_up(r * (1.0 + F64_SLACK)))
+}
+
+/// `outer` grown, if need be, to hold `inner` (measured from its centre).
+fn grown(outer: &Sphere, inner: &Sphere) -> Sphere {
+    let need = distance_f64(&outer.center, &inner.center) + inner.radius as f64;
+    let r = (outer.radius as f64).max(need * (1.0 + F64_SLACK));
+    Sphere::new(outer.center, round_up(r))
 }
 
 /// A node's refit spheres at both ends of a step.
@@ -108,7 +121,11 @@ fn tag(s: &Sphere, id: u32) -> Sphere {
     let part = |k: u32| (id >> (k * TAG_BITS)) & TAG_MASK;
     let set = |x: f32, k: u32| f32::from_bits((x.to_bits() & !TAG_MASK) | part(k));
     let c = Point::new(set(s.center.x, 0), set(s.center.y, 1), set(s.center.z, 2));
-    let need = round_up((distance_f64(&c, &s.center) + s.radius as f64) * (1.0 + F64_SLACK));
+    // The centre's move, bounded by its 1-norm.
+    let moved = (c.x as f64 - s.center.x as f64).abs()
+        + (c.y as f64 - s.center.y as f64).abs()
+        + (c.z as f64 - s.center.z as f64).abs();
+    let need = round_up((moved + s.radius as f64) * (1.0 + F64_SLACK));
     let bits = need.to_bits();
     let mut r = (bits & !TAG_MASK) | part(3);
     if r < bits {

@@ -28,7 +28,10 @@ use crate::character::PoseBuffers;
 use crate::environment::RigidMotion;
 use crate::geometry::Sphere;
 use crate::geometry::ccd_root_finder::CcdParams;
-use crate::pipeline::continuous::{Body, CharacterSweep, StepPose, detect_characters};
+use crate::geometry::ccd_sphere_plane::StillPlane;
+use crate::pipeline::continuous::{
+    Body, CharacterSweep, StepPose, detect_characters, room_planes,
+};
 use crate::pipeline::continuous_narrow::{CcdCounters, TimedPair};
 use crate::pipeline::driver::FrameCounters;
 use crate::sphere_tree::swept_rigid::RigidPath;
@@ -56,6 +59,8 @@ pub struct ContinuousWorld {
 /// One method's continuous state.
 struct MethodSweep {
     characters: Vec<CharacterSweep>,
+    /// The planes of the room's big triangles (one per division).
+    room_planes: Vec<StillPlane>,
     scratch: Vec<CharacterScratch>,
     /// The frame the characters' end states were refit for.
     last_end: Option<usize>,
@@ -97,6 +102,7 @@ impl ContinuousWorld {
                     .collect();
                 MethodSweep {
                     characters,
+                    room_planes: room_planes(&mw.room, &scene.environment.mesh),
                     scratch: scene
                         .characters
                         .iter()
@@ -238,6 +244,7 @@ impl ContinuousWorld {
         let mw = &world.methods[m];
         let pipelines = mw.character_pipelines();
         let room = &*mw.room;
+        let planes = &ms.room_planes[..];
         let objects = &mw.objects;
         let buffers = &world.buffers;
         let prev = &*prev;
@@ -255,6 +262,7 @@ impl ContinuousWorld {
                 s.room = sweep.detect_room(
                     &body,
                     room,
+                    planes,
                     &scene.environment.mesh,
                     method,
                     &params,
