@@ -17,10 +17,11 @@
 //! is the smallest number of sub-steps `i / k` (`i = 0..k`) whose discrete
 //! pairs include, on every step, every contact the exact oracle finds on
 //! the reference's sub-steps ([`SubstepTruth`]), which continuous detection
-//! finds too. Values of `k` that cannot do it (some contact's run of
-//! touching reference sub-steps, widened by one sub-step each way, holds no
-//! `i / k`) are skipped; the others are tried in increasing order by
-//! running the method. The naive alternative then costs `k` discrete
+//! finds too. For an exact method, values of `k` that cannot do it (some
+//! contact's run of touching reference sub-steps, widened by one sub-step
+//! each way, holds no `i / k`) are skipped; the others (every `k` for a
+//! plane-sphere method, whose plane test may report a pair before its
+//! triangles touch) are tried in increasing order by running the method. The naive alternative then costs `k` discrete
 //! detections a frame (the step's `i = 0` is the previous frame's `i = k`),
 //! measured on the steps with contacts.
 
@@ -55,7 +56,7 @@ pub struct CcdMethodBench {
     pub discrete_pairs_per_frame: f64,
     pub continuous_pairs_per_step: f64,
     /// The naive alternative's sub-steps per frame step; `None` when no `k`
-    /// up to the limit found every contact.
+    /// up to the limit found every contact, or no step has contacts.
     pub substeps: Option<u32>,
     /// Its median time per frame step with contacts (`k` discrete
     /// detections, each sub-step's interpolated pose included).
@@ -65,6 +66,20 @@ pub struct CcdMethodBench {
     /// Values of `k` run before the answer (the others were ruled out by
     /// the reference's contact runs).
     pub substeps_tried: Vec<u32>,
+    /// The fewest sub-steps per step that find at least one contact of
+    /// every body pair touching during a step (the event, not every pair).
+    pub substeps_for_every_body_pair: Option<u32>,
+    /// Reference contacts and touching body pairs found at `k = 1, 2, 4, …`
+    /// sub-steps (over the steps with contacts).
+    pub coverage: Vec<SubstepCoverage>,
+}
+
+/// What discrete detection at `substeps` sub-steps per step finds.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct SubstepCoverage {
+    pub substeps: u32,
+    pub contacts: usize,
+    pub body_pairs: usize,
 }
 
 /// A `bench --ccd` run.
@@ -78,9 +93,11 @@ pub struct CcdBench {
     /// Sub-steps of the reference, and the most the naive search tries.
     pub reference_substeps: u32,
     pub max_substeps: u32,
-    /// Steps whose reference found contacts, and the contacts over the run.
+    /// Steps whose reference found contacts, the contacts and the touching
+    /// body pairs over the run.
     pub steps_with_contacts: usize,
     pub reference_contacts: usize,
+    pub reference_body_pairs: usize,
     pub methods: Vec<CcdMethodBench>,
 }
 
@@ -138,6 +155,46 @@ struct StepContacts {
     /// Sorted contacts, and for each the sub-step runs `[a, b]` (of `n`).
     contacts: Vec<StepPair>,
     runs: Vec<Vec<(u32, u32)>>,
+    /// Distinct body pairs among the contacts.
+    body_pairs: usize,
+}
+
+/// The body pair of a pair: kind, character, other body.
+fn body_pair(p: &StepPair) -> (u8, u32, u32) {
+    match *p {
+        StepPair::Environment(q) => (0, q.character, 0),
+        StepPair::Objects(q) => (1, q.character, q.object),
+        StepPair::Characters(q) => (2, q.a, q.b),
+    }
+}
+
+/// Method `m`'s discrete pairs at the `k + 1` sub-steps `i / k` of step
+/// `s`, sorted and distinct, into `found`; returns the milliseconds taken.
+fn substep_pairs(
+    world: &mut World,
+    m: usize,
+    s: &StepContacts,
+    k: u32,
+    found: &mut Vec<StepPair>,
+) -> f64 {
+    found.clear();
+    let t0 = Instant::now();
+    for sub in 0..=k {
+        pose_between(
+            world,
+            &s.prev,
+            &s.prev_poses,
+            &s.end,
+            &s.end_poses,
+            sub as f32 / k as f32,
+        );
+        world.detect_method(m);
+        discrete_pairs(&world.methods[m].outcome, found);
+    }
+    let ms = t0.elapsed().as_secs_f64() * 1e3;
+    found.sort_unstable();
+    found.dedup();
+    ms
 }
 
 /// Whether `k` sub-steps can find every contact: each has some `i / k`
@@ -255,7 +312,11 @@ pub fn measure_ccd(
                     .for_each(|p| add(StepPair::Characters(p.pair)));
                 contacts.sort_by_key(|c| c.0);
                 reference_contacts += contacts.len();
+                let mut bodies: Vec<(u8, u32, u32)> = contacts.iter().map(|c| body_pair(&c.0)).collect();
+                bodies.sort_unstable();
+                bodies.dedup();
                 steps.push(StepContacts {
+                    body_pairs: bodies.len(),
                     prev: prev_poses,
                     prev_poses: cw.start_object_poses().to_vec(),
                     end: world.buffers.clone(),
@@ -274,32 +335,53 @@ pub fn measure_ccd(
     let mut found: Vec<StepPair> = Vec::new();
     let mut methods = Vec::with_capacity(n);
     for i in 0..n {
+        // Contacts and body pairs found at `k` sub-steps, over the steps.
+        let tally = |world: &mut World, k: u32, found: &mut Vec<StepPair>| {
+            let (mut contacts, mut bodies, mut every) = (0, 0, true);
+            for s in &steps {
+                substep_pairs(world, i, s, k, found);
+                let hit = s.contacts.iter().filter(|c| found.binary_search(c).is_ok());
+                contacts += hit.clone().count();
+                let mut seen: Vec<(u8, u32, u32)> = hit.map(body_pair).collect();
+                seen.dedup();
+                bodies += seen.len();
+                every &= seen.len() == s.body_pairs;
+            }
+            (contacts, bodies, every)
+        };
+        let mut coverage = Vec::new();
+        let mut k = 1;
+        while k <= max_k && !steps.is_empty() {
+            let (contacts, body_pairs, _) = tally(&mut world, k, &mut found);
+            coverage.push(SubstepCoverage {
+                substeps: k,
+                contacts,
+                body_pairs,
+            });
+            k *= 2;
+        }
+        let body_pair_k = if steps.is_empty() {
+            None
+        } else {
+            (1..=max_k).find(|&k| tally(&mut world, k, &mut found).2)
+        };
+        let exact = world.methods[i].method.big_leaf_test() == crate::pipeline::LeafTest::TriTri;
         let mut tried = Vec::new();
         let mut answer = None;
         for k in 1..=max_k {
-            if !steps.iter().all(|s| may_find_all(s, substeps, k)) {
+            if steps.is_empty() {
+                break;
+            }
+            // Only an exact method's pairs touch; a plane test may report
+            // a pair earlier, so nothing is ruled out for it.
+            if exact && !steps.iter().all(|s| may_find_all(s, substeps, k)) {
                 continue;
             }
             tried.push(k);
             let mut times = Vec::new();
             let all = steps.iter().all(|s| {
-                found.clear();
-                let t0 = Instant::now();
-                for sub in 0..=k {
-                    pose_between(
-                        &mut world,
-                        &s.prev,
-                        &s.prev_poses,
-                        &s.end,
-                        &s.end_poses,
-                        sub as f32 / k as f32,
-                    );
-                    world.detect_method(i);
-                    discrete_pairs(&world.methods[i].outcome, &mut found);
-                }
-                times.push(t0.elapsed().as_secs_f64() * 1e3 * k as f64 / (k + 1) as f64);
-                found.sort();
-                found.dedup();
+                let ms = substep_pairs(&mut world, i, s, k, &mut found);
+                times.push(ms * k as f64 / (k + 1) as f64);
                 s.contacts.iter().all(|c| found.binary_search(c).is_ok())
             });
             if all {
@@ -326,6 +408,8 @@ pub fn measure_ccd(
             substeps_ms_per_frame: naive_ms,
             substeps_vs_continuous: naive_ms.map(|ms| ratio(ms, cont)),
             substeps_tried: tried,
+            substeps_for_every_body_pair: body_pair_k,
+            coverage,
         });
     }
     let scene = &world.scene;
@@ -339,6 +423,7 @@ pub fn measure_ccd(
         max_substeps: max_k,
         steps_with_contacts: steps.len(),
         reference_contacts,
+        reference_body_pairs: steps.iter().map(|s| s.body_pairs).sum(),
         methods,
     })
 }

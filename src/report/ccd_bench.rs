@@ -25,7 +25,7 @@ impl fmt::Display for CcdBenchTable<'_> {
         )?;
         writeln!(
             f,
-            "{:<32}{:>12}{:>14}{:>8}{:>14}{:>14}{:>10}{:>9}{:>6}{:>14}{:>9}",
+            "{:<32}{:>12}{:>14}{:>8}{:>14}{:>14}{:>10}{:>9}{:>6}{:>14}{:>10}{:>10}",
             "",
             "discrete ms",
             "continuous ms",
@@ -36,7 +36,8 @@ impl fmt::Display for CcdBenchTable<'_> {
             "pairs",
             "k",
             "k sub-st. ms",
-            "vs cont."
+            "vs cont.",
+            "k bodies"
         )?;
         for m in &b.methods {
             let (k, ms, vs) = match (
@@ -47,11 +48,17 @@ impl fmt::Display for CcdBenchTable<'_> {
                 (Some(k), Some(ms), Some(vs)) => {
                     (k.to_string(), format!("{ms:.3}"), format!("{vs:.2}×"))
                 }
+                _ if b.steps_with_contacts == 0 => ("-".into(), "-".into(), "-".into()),
                 _ => (format!(">{}", b.max_substeps), "-".into(), "-".into()),
+            };
+            let kb = match m.substeps_for_every_body_pair {
+                Some(k) => k.to_string(),
+                None if b.steps_with_contacts == 0 => "-".into(),
+                None => format!(">{}", b.max_substeps),
             };
             writeln!(
                 f,
-                "{:<32}{:>12.3}{:>14.3}{:>7.2}×{:>14.0}{:>14.0}{:>10.1}{:>9.1}{:>6}{:>14}{:>9}",
+                "{:<32}{:>12.3}{:>14.3}{:>7.2}×{:>14.0}{:>14.0}{:>10.1}{:>9.1}{:>6}{:>14}{:>10}{:>10}",
                 m.method.name(),
                 m.discrete_ms_per_frame,
                 m.continuous_ms_per_frame,
@@ -62,7 +69,22 @@ impl fmt::Display for CcdBenchTable<'_> {
                 m.continuous_pairs_per_step,
                 k,
                 ms,
-                vs
+                vs,
+                kb
+            )?;
+        }
+        for m in b.methods.iter().filter(|m| !m.coverage.is_empty()) {
+            let cells: Vec<String> = m
+                .coverage
+                .iter()
+                .map(|c| format!("{}: {}", c.substeps, c.contacts))
+                .collect();
+            writeln!(
+                f,
+                "{:<32}contacts found at k sub-steps (of {}): {}",
+                m.method.name(),
+                b.reference_contacts,
+                cells.join(", ")
             )?;
         }
         writeln!(
@@ -70,8 +92,12 @@ impl fmt::Display for CcdBenchTable<'_> {
             "(kernel: triangle pairs the CCD kernel tested per step; pairs: continuous pairs per \
              step; k: fewest discrete sub-steps per step finding every contact of the \
              {}-sub-step reference on the {} steps with contacts ({} contacts), its ms per \
-             such step)",
-            b.reference_substeps, b.steps_with_contacts, b.reference_contacts
+             such step; k bodies: fewest finding a contact of each of the {} touching body \
+             pairs)",
+            b.reference_substeps,
+            b.steps_with_contacts,
+            b.reference_contacts,
+            b.reference_body_pairs
         )
     }
 }
