@@ -312,7 +312,8 @@ pub fn measure_ccd(
                     .for_each(|p| add(StepPair::Characters(p.pair)));
                 contacts.sort_by_key(|c| c.0);
                 reference_contacts += contacts.len();
-                let mut bodies: Vec<(u8, u32, u32)> = contacts.iter().map(|c| body_pair(&c.0)).collect();
+                let mut bodies: Vec<(u8, u32, u32)> =
+                    contacts.iter().map(|c| body_pair(&c.0)).collect();
                 bodies.sort_unstable();
                 bodies.dedup();
                 steps.push(StepContacts {

@@ -26,7 +26,7 @@ use cornertree::scenario::ranges::MAX_FRAMES;
 use cornertree::scenario::{Resolved, RunLimits, open_scenario_within, scenario_name};
 use cornertree::truth::WorldTruth;
 use cornertree::truth::{FrameTruth, MethodContext};
-use cornertree::world::World;
+use cornertree::world::{ContinuousWorld, World};
 
 use super::args::ScenarioArgs;
 use super::play_ccd::ContinuousObserver;
@@ -239,6 +239,21 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     progress.set_prefix(name.clone());
     progress.set_message("building hierarchies");
     let mut world = World::new(resolved, args.threads)?;
+    let ccd_on = args.ccd || world.scene.ccd;
+    // Continuous detection's state (`--ccd`, `ccd = true`), charged to the
+    // budget before any file is created.
+    if ccd_on {
+        let mut budget = RunBudget::new(&limits);
+        budget
+            .charge(Some(world.scene.estimated_bytes), String::new)
+            .and_then(|()| {
+                budget.charge(ContinuousWorld::estimated_bytes(&world), || {
+                    "continuous detection (both ends of every step, per method and character)"
+                        .into()
+                })
+            })
+            .map_err(|e| anyhow::anyhow!("{}: ccd: {e}", args.common.scenario.display()))?;
+    }
 
     // The ground truth, shared by every method.
     let mut truth = if args.no_truth || is_world {
@@ -271,7 +286,6 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         })
         .collect();
 
-    let ccd_on = args.ccd || world.scene.ccd;
     // One recording per method (one character in a static room).
     let record_options = RecordOptions {
         all_spheres: world.scene.recording.all_spheres,

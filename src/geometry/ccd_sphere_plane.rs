@@ -66,11 +66,7 @@ impl StillPlane {
         }
         let (n, v0) = (&self.n, &self.v0);
         let rel = |c: &crate::geometry::Point| {
-            [
-                c.x as f64 - v0[0],
-                c.y as f64 - v0[1],
-                c.z as f64 - v0[2],
-            ]
+            [c.x as f64 - v0[0], c.y as f64 - v0[1], c.z as f64 - v0[2]]
         };
         let (q0, q1) = (rel(&start.center), rel(&end.center));
         let dot = |q: [f64; 3]| n[0] * q[0] + n[1] * q[1] + n[2] * q[2];

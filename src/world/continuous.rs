@@ -29,9 +29,7 @@ use crate::environment::RigidMotion;
 use crate::geometry::Sphere;
 use crate::geometry::ccd_root_finder::CcdParams;
 use crate::geometry::ccd_sphere_plane::StillPlane;
-use crate::pipeline::continuous::{
-    Body, CharacterSweep, StepPose, detect_characters, room_planes,
-};
+use crate::pipeline::continuous::{Body, CharacterSweep, StepPose, detect_characters, room_planes};
 use crate::pipeline::continuous_narrow::{CcdCounters, TimedPair};
 use crate::pipeline::driver::FrameCounters;
 use crate::sphere_tree::swept_rigid::RigidPath;
@@ -132,6 +130,41 @@ impl ContinuousWorld {
             paths_frame: None,
             methods,
         }
+    }
+
+    /// Bytes [`ContinuousWorld::new`] and a step's reference
+    /// (`truth::substep`) take beyond `world`, rounded up: per method and
+    /// character, refit states, swept spheres and skinned vertices at both
+    /// ends; per character, its previous pose and its triangles' boxes over
+    /// a step. `None` past `usize`.
+    pub fn estimated_bytes(world: &World) -> Option<usize> {
+        let scene = &world.scene;
+        let mut total = 0usize;
+        for mw in &world.methods {
+            for (p, a) in mw.character_pipelines().iter().zip(&scene.characters) {
+                let nodes = p
+                    .lock()
+                    .expect("no pass panicked")
+                    .character_tree
+                    .tree
+                    .len();
+                let vertices = a.character.mesh.vertex_count();
+                total = total
+                    .checked_add(nodes.checked_mul(100)?)?
+                    .checked_add(vertices.checked_mul(40)?)?;
+            }
+        }
+        for a in &scene.characters {
+            let (v, t) = (
+                a.character.mesh.vertex_count(),
+                a.character.mesh.triangle_count(),
+            );
+            total = total
+                .checked_add(v.checked_mul(32)?)?
+                .checked_add(t.checked_mul(200)?)?
+                .checked_add(a.character.skeleton.len().checked_mul(400)?)?;
+        }
+        Some(total)
     }
 
     /// Method `m`'s outcome of the last step it detected.
