@@ -385,3 +385,104 @@ proptest! {
         }
     }
 }
+
+// ---- The swept hierarchies' parts (issue 14, item 4) on the same pairs. ----
+
+use cornertree::geometry::ccd_sphere_plane::sweep_meets_plane;
+use cornertree::geometry::enclosing::triangle_sphere;
+use cornertree::pipeline::continuous_narrow::{CcdCounters, leaf_toi};
+use cornertree::sphere_tree::swept::SphereSweep;
+
+/// `a` held still at its start.
+fn still(a: &LatticeTriangle) -> LatticeTriangle {
+    LatticeTriangle {
+        corners: a.corners,
+        motion: [[0; 3]; 3],
+    }
+}
+
+/// `a`'s minimal spheres at both ends of the step, grown by `grow`.
+fn end_spheres(a: &LatticeTriangle, grow: f32) -> SphereSweep {
+    let at = |k| {
+        let mut s = triangle_sphere(&triangle(a.at(k)));
+        s.radius += grow;
+        s
+    };
+    SphereSweep {
+        start: at(0),
+        end: at(STEPS),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(600))]
+
+    /// The pipeline's leaf test of a triangle pair (the plane-side skip
+    /// against a still triangle, the exact test at the start, the kernel:
+    /// `continuous_narrow::leaf_toi`) misses no sub-step contact, against a
+    /// moving or a still second triangle.
+    #[test]
+    fn leaf_test_never_misses_a_substep_contact(
+        (a, b) in any_pair(),
+        b_still in any::<bool>(),
+    ) {
+        let b = if b_still { still(&b) } else { b };
+        let first = first_contact(|k| a.at(k), |k| b.at(k));
+        let mut c = CcdCounters::default();
+        let toi = leaf_toi(&a.moving(), &b.moving(), b_still, &params(), &mut c);
+        if let Some(k) = first {
+            prop_assert!(
+                toi.is_some_and(|t| not_after(t, k)),
+                "contact at sub-step {k}, answer {toi:?} ({c:?}): {a:?} {b:?}"
+            );
+        }
+    }
+
+    /// A triangle moving linearly stays, at every sub-step, inside the
+    /// sphere interpolated between spheres holding it at both ends and
+    /// inside the swept sphere around both (`sphere_tree::swept`).
+    #[test]
+    fn interpolated_and_swept_spheres_hold_the_moving_triangle(
+        (a, _) in any_pair(),
+        grow in 0.0f32..0.05,
+    ) {
+        let sweep = end_spheres(&a, grow);
+        let swept = sweep.swept();
+        for k in 0..=STEPS {
+            let t = k as f64 / STEPS as f64;
+            let s = sweep.at(t);
+            for p in a.at(k).map(real) {
+                let q = Point::new(p[0] as f32, p[1] as f32, p[2] as f32);
+                // `p` is exact; its `f32` copy is within an ulp of 0.5.
+                prop_assert!(s.contains_point(&q, 1e-7), "sub-step {k}: {p:?} outside {s:?}");
+                prop_assert!(swept.contains_point(&q, 1e-7), "sub-step {k}: {p:?} outside {swept:?}");
+            }
+        }
+    }
+
+    /// The moving sphere against a still triangle's plane: whenever the
+    /// triangle it holds touches the still triangle at a sub-step, the
+    /// plane test answers with a time of impact no later.
+    #[test]
+    fn sphere_against_plane_never_misses_a_substep_contact(
+        (a, b) in any_pair(),
+        grow in 0.0f32..0.01,
+    ) {
+        let b = still(&b);
+        let Some(k) = first_contact(|k| a.at(k), |k| b.at(k)) else {
+            return Ok(());
+        };
+        let sweep = end_spheres(&a, grow);
+        let plane = triangle(b.at(0));
+        let [p, q, r] = b.at(0).map(real);
+        let (e, f) = ([q[0] - p[0], q[1] - p[1], q[2] - p[2]], [r[0] - p[0], r[1] - p[1], r[2] - p[2]]);
+        if e[1] * f[2] == e[2] * f[1] && e[2] * f[0] == e[0] * f[2] && e[0] * f[1] == e[1] * f[0] {
+            return Ok(()); // no plane: the test answers `None` by design
+        }
+        let toi = sweep_meets_plane(&sweep.start, &sweep.end, &plane);
+        prop_assert!(
+            toi.is_some_and(|t| t <= k as f64 / STEPS as f64 + 1e-9),
+            "contact at sub-step {k}, answer {toi:?}"
+        );
+    }
+}

@@ -113,7 +113,7 @@ fn a_humanoid_of_ten_to_the_ten_vertices_is_refused() {
 #[test]
 fn numbers_out_of_range_name_their_field() {
     let good = BASE.replace("{GAP}", "0.01");
-    let cases: [(String, &str); 12] = [
+    let cases: [(String, &str); 14] = [
         (
             format!("fps = 1e300\n{good}"),
             "1:7: fps: must be frames per second from 0.001 to 10000, not 1e300",
@@ -173,6 +173,14 @@ fn numbers_out_of_range_name_their_field() {
         (
             format!("{good}[recording]\nmesh_every = 0\n"),
             "11:14: recording.mesh_every: must be a whole number from 1 to 4294967295, not 0",
+        ),
+        (
+            format!("ccd = true\nccd_substeps = 0\n{good}"),
+            "2:16: ccd_substeps: must be a whole number from 1 to 65536, not 0",
+        ),
+        (
+            format!("ccd_substeps = 100000\n{good}"),
+            "1:16: ccd_substeps: must be a whole number from 1 to 65536, not 100000",
         ),
     ];
     for (i, (text, want)) in cases.iter().enumerate() {

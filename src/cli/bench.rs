@@ -3,8 +3,10 @@
 //! [`cornertree::bench`]).
 
 use anyhow::Context;
+use cornertree::bench::continuous::measure_ccd;
 use cornertree::bench::{Bench, measure};
 use cornertree::report::bench::BenchTable;
+use cornertree::report::ccd_bench::CcdBenchTable;
 use cornertree::scenario::{Resolved, open_scenario, scenario_name};
 
 use super::args::ScenarioArgs;
@@ -17,6 +19,15 @@ pub struct BenchArgs {
     /// measured on one thread in the same run (`parallel_speedup`).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Continuous detection instead of parry: each method's continuous step
+    /// beside its discrete frame, and discrete detection at the fewest
+    /// sub-steps per step that finds every contact of the sub-stepped
+    /// reference (docs/ccd.md, "Cost").
+    #[arg(long)]
+    pub ccd: bool,
+    /// With `--ccd`: the most sub-steps per step tried.
+    #[arg(long, value_name = "K", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub ccd_max_substeps: u32,
 }
 
 /// A progress bar over `len` frames.
@@ -52,6 +63,25 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<String> {
     let frames = common.frames.map_or(scene.frames(), |f| f as usize);
     let progress = progress_bar(frames as u64);
     let name = scenario_name(&common.scenario);
+    if args.ccd {
+        let result = measure_ccd(
+            scene,
+            &name,
+            frames,
+            args.threads,
+            args.ccd_max_substeps,
+            || progress.inc(1),
+        )
+        .with_context(|| format!("{name}: measuring"))?;
+        progress.finish_and_clear();
+        let mut out = CcdBenchTable(&result).to_string();
+        if let Some(path) = &common.json {
+            std::fs::write(path, serde_json::to_string(&result)?)
+                .with_context(|| format!("{}: cannot write the report", path.display()))?;
+            out += &format!("report: {}\n", path.display());
+        }
+        return Ok(out);
+    }
     let result = measure_with_progress(scene, &name, frames, args.threads, &progress)?;
     progress.finish_and_clear();
     let mut out = BenchTable(&result).to_string();

@@ -42,6 +42,8 @@ pub fn compare(mut args: CompareArgs) -> anyhow::Result<String> {
             dump_frame: None,
             threads: args.threads,
             memory_budget: args.memory_budget,
+            ccd: false,
+            ccd_substeps: None,
             style: if args.markdown {
                 Style::Markdown
             } else {

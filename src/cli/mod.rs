@@ -9,6 +9,7 @@
 //! | [`run`] | `run`: a scenario through its methods, recorded |
 //! | [`compare`] | `compare`: every method against the ground truth |
 //! | [`play`] | the frame loop `run` and `compare` observe (truth, report, recordings, dumps) |
+//! | [`play_ccd`] | `run --ccd`'s observer: continuous detection per step, its reference, report and recording |
 //! | [`bench`] | `bench`: cost per frame against the parry3d baseline |
 //! | [`scaling`] | `scaling`: cost against character, room and crowd size |
 //! | [`figures`] | `figures`: recordings of the paper's Figures 1-3 |
@@ -24,6 +25,7 @@ pub mod figures;
 pub mod inspect;
 pub mod kernels;
 pub mod play;
+pub mod play_ccd;
 pub mod run;
 pub mod scaling;
 pub mod study;

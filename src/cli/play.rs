@@ -12,7 +12,7 @@ use cornertree::character::SkinningModel;
 use cornertree::pipeline::LeafTest;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::Pipeline;
-use cornertree::record::blueprint::{run_blueprint, world_blueprint};
+use cornertree::record::blueprint::{ccd_blueprint, run_blueprint, world_blueprint};
 use cornertree::record::layout;
 use cornertree::record::target::RecordingTarget;
 use cornertree::record::world_recorder;
@@ -26,9 +26,10 @@ use cornertree::scenario::ranges::MAX_FRAMES;
 use cornertree::scenario::{Resolved, RunLimits, open_scenario_within, scenario_name};
 use cornertree::truth::WorldTruth;
 use cornertree::truth::{FrameTruth, MethodContext};
-use cornertree::world::World;
+use cornertree::world::{ContinuousWorld, World};
 
 use super::args::ScenarioArgs;
+use super::play_ccd::ContinuousObserver;
 
 /// `--memory-budget` by default: [`RunLimits::default`] in GiB.
 pub const DEFAULT_BUDGET_GIB: f64 = 4.0;
@@ -82,6 +83,10 @@ pub struct PlayArgs {
     pub style: Style,
     /// `--memory-budget`, GiB.
     pub memory_budget: f64,
+    /// `--ccd`: continuous detection of every frame step (also on with the
+    /// scenario's `ccd = true`), its reference's sub-steps (`--ccd-substeps`).
+    pub ccd: bool,
+    pub ccd_substeps: Option<u32>,
 }
 
 /// How the summary table is printed.
@@ -234,6 +239,21 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     progress.set_prefix(name.clone());
     progress.set_message("building hierarchies");
     let mut world = World::new(resolved, args.threads)?;
+    let ccd_on = args.ccd || world.scene.ccd;
+    // Continuous detection's state (`--ccd`, `ccd = true`), charged to the
+    // budget before any file is created.
+    if ccd_on {
+        let mut budget = RunBudget::new(&limits);
+        budget
+            .charge(Some(world.scene.estimated_bytes), String::new)
+            .and_then(|()| {
+                budget.charge(ContinuousWorld::estimated_bytes(&world), || {
+                    "continuous detection (both ends of every step, per method and character)"
+                        .into()
+                })
+            })
+            .map_err(|e| anyhow::anyhow!("{}: ccd: {e}", args.common.scenario.display()))?;
+    }
 
     // The ground truth, shared by every method.
     let mut truth = if args.no_truth || is_world {
@@ -308,7 +328,14 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         for mw in mws.iter_mut() {
             let method = mw.method;
             let level = layout::display_level(&mw.pipeline(0).character_tree.tree);
-            let blueprint = if is_world {
+            let blueprint = if ccd_on {
+                let bodies: Vec<String> = character_paths
+                    .iter()
+                    .chain(&object_paths)
+                    .cloned()
+                    .collect();
+                ccd_blueprint(&bodies)
+            } else if is_world {
                 world_blueprint(&character_paths, &object_paths, level)
             } else {
                 run_blueprint(level)
@@ -346,6 +373,13 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         }
     }
 
+    // Continuous detection of every step (`--ccd`, `ccd = true`).
+    let mut ccd = ccd_on.then(|| {
+        let substeps = args.ccd_substeps.unwrap_or(world.scene.ccd_substeps);
+        let recorded: Vec<bool> = recorders.iter().map(Option::is_some).collect();
+        ContinuousObserver::new(&world, substeps, !args.no_truth, &recorded)
+    });
+
     // Per-frame records are summed as they come; they are kept only for the
     // JSON report, so a long run's memory stays flat.
     let keep_frames = args.common.json.is_some();
@@ -362,6 +396,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                 m.pipeline(0).hierarchy_bytes()
             },
             frames: Vec::new(),
+            continuous: None,
         })
         .collect();
     let mut summing: Vec<SummaryBuilder> = runs
@@ -396,9 +431,13 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         if truth.is_some()
             || world_truth.is_some()
             || recorders.iter().any(Option::is_some)
+            || ccd.as_ref().is_some_and(ContinuousObserver::wants_skin)
             || dumped
         {
             world.skin_all();
+        }
+        if let Some(c) = ccd.as_mut() {
+            c.begin_frame(&world, k);
         }
         if let Some(t) = truth.as_mut() {
             let first = world.scene.first();
@@ -416,6 +455,18 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
         }
         for i in 0..world.methods.len() {
             world.detect_method(i);
+            let continuous = match ccd.as_mut() {
+                Some(c) => c
+                    .method(
+                        &mut world,
+                        k,
+                        i,
+                        recorders[i].as_ref().map(Recorder::stream),
+                    )
+                    .inspect_err(|_| discard(&created))
+                    .with_context(|| format!("continuous detection of frame {k}"))?,
+                None => None,
+            };
             let World {
                 scene,
                 methods: mws,
@@ -464,6 +515,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                 }
                 None => None,
             };
+            record.continuous = continuous;
             summing[i].add(&record);
             if keep_frames {
                 runs[i].frames.push(record);
@@ -525,6 +577,9 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
             )
             .with_context(|| format!("{}: cannot dump frame {k}", dir.display()))?;
         }
+        if let Some(c) = ccd.as_mut() {
+            c.end_frame(&world, k);
+        }
         played = k + 1;
         progress.inc(1);
     }
@@ -546,6 +601,11 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     }
 
     let summaries: Vec<Summary> = summing.iter().map(SummaryBuilder::summary).collect();
+    if let Some(c) = &ccd {
+        for (r, t) in runs.iter_mut().zip(&c.totals) {
+            r.continuous = Some(t.clone());
+        }
+    }
     if let Some(path) = &args.common.json {
         let text = match runs.as_slice() {
             [one] => serde_json::to_string(one)?,
@@ -620,6 +680,9 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
     };
     if is_world {
         out += &world_kind_table(&summing, world_truth.is_some());
+    }
+    if let Some(c) = &ccd {
+        out += &c.summary(&world);
     }
     out += &format!(
         "{played} frames, {} methods in {:.1} s (hierarchies, frames{})\n",

@@ -41,6 +41,16 @@ pub struct RunArgs {
     /// take, in GiB (estimated before they are built; docs/robustness.md).
     #[arg(long, value_name = "GIB", default_value_t = DEFAULT_BUDGET_GIB)]
     pub memory_budget: f64,
+    /// Continuous detection of every frame step beside the discrete frames
+    /// (as the scenario's `ccd = true`): the pairs touching during each
+    /// step with their times of impact, those the discrete frames missed,
+    /// and recall against the exact oracle on sub-steps (docs/ccd.md).
+    #[arg(long)]
+    pub ccd: bool,
+    /// Sub-steps per frame step of `--ccd`'s reference (default: the
+    /// scenario's `ccd_substeps`, 256).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub ccd_substeps: Option<u32>,
     #[command(flatten)]
     pub rerun: rerun::clap::RerunArgs,
 }
@@ -72,6 +82,8 @@ pub fn run(args: RunArgs, target: RecordingTarget) -> anyhow::Result<String> {
             threads: args.threads,
             memory_budget: args.memory_budget,
             style: Style::Text,
+            ccd: args.ccd,
+            ccd_substeps: args.ccd_substeps,
         },
         target,
     )

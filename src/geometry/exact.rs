@@ -186,6 +186,12 @@ fn closed_intersect(a: &[P3; 3], b: &[P3; 3], deg_a: bool, deg_b: bool) -> bool 
     }
 }
 
+/// [`triangles_intersect_exact`] on `f64` corners (the same predicates,
+/// exact for every finite `f64` input): sub-steps of a continuous step.
+pub fn corners_intersect_exact(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> bool {
+    closed_intersect(a, b, is_degenerate(a), is_degenerate(b))
+}
+
 /// Whether the two closed triangles share a point, exactly.
 pub fn triangles_intersect_exact(t1: &Triangle, t2: &Triangle) -> bool {
     classify(t1, t2) != Contact::Disjoint

@@ -17,6 +17,8 @@
 //! | [`ccd_vertex_face`] | vertex–face continuous collision detection (linear motion over a step) | §7 (future work) |
 //! | [`ccd_edge_edge`] | edge–edge continuous collision detection | §7 |
 //! | [`ccd_triangles`] | triangle–triangle CCD: contact at the start, 6 vertex–face and 9 edge–edge tests | §7 |
+//! | [`ccd_sphere_plane`] | a sphere interpolated over a step against a still triangle's plane (Algorithm 1, continuous) | §5, §7 |
+//! | [`ccd_sphere_sphere`] | two spheres interpolated over a step: do they meet (sphere-sphere, continuous) | §2, §7 |
 //! | [`ccd_root_finder`] | the conservative inclusion-based root finder both elementary tests run (Wang et al. 2021) | §7 |
 //! | [`ccd_swept_box`] | boxes of points over a step: the CCD early-out | §7 |
 //! | [`ccd_error_bounds`] | the root finder's certified rounding bounds (inputs' rounding included) | §7 |
@@ -31,6 +33,8 @@ pub mod ccd_edge_edge;
 pub mod ccd_error_bounds;
 pub mod ccd_param_box;
 pub mod ccd_root_finder;
+pub mod ccd_sphere_plane;
+pub mod ccd_sphere_sphere;
 pub mod ccd_swept_box;
 pub mod ccd_triangles;
 pub mod ccd_vertex_face;

@@ -4,12 +4,16 @@
 //! | file | what | paper |
 //! |---|---|---|
 //! | [`driver`] | one method's per-frame pipeline: on-demand refit inside traversal, narrow phase, counters, stage times | §3–6 |
+//! | [`continuous`] | one character over a frame step: swept spheres against the room, a moving object or another character (continuous detection) | §7 |
+//! | [`continuous_narrow`] | the continuous leaf tests: plane of a big triangle, triangle–triangle CCD, times of impact | §5, §7 |
 //! | [`method`] | [`Method`]: original, sphere division, plane-sphere and quaternary plane-sphere (§5 as written), their pruned twins and pruned tri-tri (ours) | §5, §6 |
 //! | [`environment_tree`] | the environment's sphere tree with big-triangle hierarchies grafted in | §5 |
 //! | [`repeat_filter`] | each (character triangle, big triangle) pair tested once a pass, without sorting (`pruned-tri-tri`) | §5 |
 //! | [`visit_log`] | which environment nodes the timed traversal tested (for recordings) | §3 |
 
 pub mod bodies;
+pub mod continuous;
+pub mod continuous_narrow;
 pub mod driver;
 pub mod environment_tree;
 pub mod method;

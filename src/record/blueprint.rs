@@ -191,3 +191,68 @@ pub fn figure_blueprint(title: &str, timeline: Option<&str>) -> Blueprint {
             None => TimePanel::new().with_state(PanelState::Hidden),
         })
 }
+
+/// `run --ccd` (one character or a world): on the left the bodies at a
+/// step's time of impact with the pairs touching there and the swept
+/// spheres of the step's touching leaves (only `cd/ccd`, so the camera frames
+/// them), beside them a close-up of the pairs and spheres alone, and the
+/// scene at the frame below; on the right continuous
+/// detection's counters per step, then the events (each step's pairs and
+/// time of impact), this frame's report and the scenario. `bodies` are the
+/// entities whose `spheres` subtrees the scene leaves out. It opens on the
+/// last frame (a run stopped with `--frames` right after a step of
+/// interest shows that step).
+pub fn ccd_blueprint(bodies: &[String]) -> Blueprint {
+    let toi = Spatial3DView::new("time of impact (continuous detection)")
+        .with_origin("/")
+        .with_contents([format!("/{}/**", layout::CCD)]);
+    let close = Spatial3DView::new("touching pairs and swept spheres")
+        .with_origin("/")
+        .with_contents([
+            format!("/{}", layout::CCD_TOI_PAIRS),
+            format!("/{}", layout::CCD_TOI_OTHER),
+            format!("/{}", layout::CCD_SWEPT),
+        ]);
+    let scene = Spatial3DView::new("scene at the frame")
+        .with_origin("/")
+        .with_contents(
+            [
+                "/world/**".to_string(),
+                "/cd/**".to_string(),
+                format!("- /{}/**", layout::CCD),
+                format!("- /{}/**", layout::ENV_SPHERES),
+                format!("- /{}/**", layout::AVATAR_SPHERES),
+            ]
+            .into_iter()
+            .chain(bodies.iter().map(|b| format!("- /{b}/spheres/**"))),
+        );
+    let ccd = TimeSeriesView::new("continuous detection per step")
+        .with_origin(format!("/{}/ccd", layout::STATS));
+    let report =
+        TextDocumentView::new("this frame").with_origin(format!("/{}", layout::FRAME_REPORT));
+    let info = TextDocumentView::new("scenario").with_origin(format!("/{}", layout::INFO));
+    let events = TextLogView::new("events").with_origin(format!("/{}", layout::EVENTS));
+    let views: Vec<ContainerLike> = vec![
+        Vertical::new([
+            Horizontal::new([toi.into(), close.into()]).into(),
+            scene.into(),
+        ])
+        .with_row_shares([3.0, 2.0])
+        .into(),
+        Vertical::new([
+            ccd.into(),
+            Tabs::new([events.into(), report.into(), info.into()]).into(),
+        ])
+        .into(),
+    ];
+    Blueprint::new(Horizontal::new(views).with_column_shares([3.0, 2.0]))
+        .with_auto_views(false)
+        .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+        .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+        .with_time_panel(
+            TimePanel::new()
+                .with_state(PanelState::Collapsed)
+                .with_timeline(layout::FRAME)
+                .with_play_state(PlayState::Following),
+        )
+}

@@ -32,6 +32,24 @@ pub const ACCURACY_PATHS: [&str; 4] = [
     "stats/accuracy/triangle_precision",
     "stats/accuracy/triangle_recall",
 ];
+/// Continuous detection (`run --ccd`): under `cd/` so every 3D view shows
+/// it. The bodies at a time of impact (`…/toi/characters/<body>`,
+/// `…/toi/objects/<body>`), the pairs touching there, the swept spheres of
+/// the step's touching character leaves.
+pub const CCD: &str = "cd/ccd";
+pub const CCD_TOI: &str = "cd/ccd/toi";
+pub const CCD_TOI_PAIRS: &str = "cd/ccd/toi/pairs";
+/// The other side of those pairs (room, object or second character), outlined.
+pub const CCD_TOI_OTHER: &str = "cd/ccd/toi/pairs_other";
+pub const CCD_SWEPT: &str = "cd/ccd/swept_spheres";
+/// Per step: pairs, pairs the discrete frames missed at both ends, recall
+/// against the sub-stepped reference, earliest time of impact.
+pub const CCD_STATS: [&str; 4] = [
+    "stats/ccd/pairs",
+    "stats/ccd/missed_by_discrete",
+    "stats/ccd/recall",
+    "stats/ccd/earliest_toi",
+];
 pub const REFERENCE_PAIRS: &str = "stats/reference_pairs";
 pub const STATS: &str = "stats";
 pub const EVENTS: &str = "events";
@@ -108,6 +126,12 @@ pub const HIT_CHARACTER_COLOR: Rgba = [150, 90, 255, 255];
 pub const SUBDIVISION_COLOR: Rgba = [40, 200, 120, 255];
 pub const FALSE_POSITIVE_COLOR: Rgba = [255, 0, 255, 255];
 pub const FALSE_NEGATIVE_COLOR: Rgba = [0, 230, 255, 255];
+/// Continuous detection: a character at a time of impact, the pairs
+/// touching there, swept spheres (translucent).
+pub const CCD_TOI_COLOR: Rgba = [120, 200, 170, 120];
+pub const CCD_PAIR_COLOR: Rgba = [255, 30, 30, 255];
+pub const CCD_OTHER_COLOR: Rgba = [255, 230, 0, 255];
+pub const CCD_SWEPT_COLOR: Rgba = [255, 170, 0, 200];
 
 /// A colour per hierarchy level, from warm (root) to cool (leaves),
 /// translucent so nested spheres stay readable.

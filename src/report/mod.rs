@@ -3,6 +3,8 @@
 //! | file | what |
 //! |---|---|
 //! | [`ccd_queries`] | CCD kernels against query files with exact answers: misses, false positives, time (`cornertree ccd-queries`) |
+//! | [`ccd_bench`] | `bench --ccd`'s table: continuous beside discrete per method, and discrete at `k` sub-steps |
+//! | [`continuous`] | `run --ccd`'s JSON: per step the pairs with times of impact, the earliest, discrete's misses, the sub-stepped reference's score; totals |
 //! | [`animate`] | clip playback: refit containment, tightness, per-frame costs |
 //! | [`bench`] | `bench`'s table and the scaling studies' markdown tables |
 //! | [`kernels`] | operations charged and paid per kernel, time per test (`cornertree kernels`) |
@@ -15,7 +17,9 @@
 
 pub mod animate;
 pub mod bench;
+pub mod ccd_bench;
 pub mod ccd_queries;
+pub mod continuous;
 pub mod inspect;
 pub mod kernel_inputs;
 pub mod kernels;

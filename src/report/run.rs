@@ -128,6 +128,10 @@ pub struct FrameRecord {
     /// and accuracy per pair kind; `pairs` is then empty.
     #[serde(flatten, skip_serializing_if = "Option::is_none")]
     pub world: Option<WorldFrameRecord>,
+    /// With `run --ccd` (or `ccd = true`), from frame 1 on: the step from
+    /// the previous frame, continuously (docs/ccd.md).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub continuous: Option<super::continuous::ContinuousFrameRecord>,
 }
 
 /// Tests and pairs of one pair kind in one frame.
@@ -212,6 +216,7 @@ impl FrameRecord {
             pairs: pairs.iter().map(|&(a, b)| [a, b]).collect(),
             truth: None,
             world: None,
+            continuous: None,
         }
     }
 }
@@ -225,6 +230,9 @@ pub struct MethodRun {
     /// Bytes of the avatar's and the environment's sphere hierarchies.
     pub hierarchy_bytes: usize,
     pub frames: Vec<FrameRecord>,
+    /// With `run --ccd`: continuous detection over the run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub continuous: Option<super::continuous::ContinuousTotals>,
 }
 
 /// Maximum and mean of one counter.

@@ -58,6 +58,12 @@ pub struct Scenario {
     /// Big-triangle threshold in metres (longest edge).
     pub threshold: Real,
     pub recording: Recording,
+    /// `ccd`: continuous detection of every frame step beside the discrete
+    /// frames (`run`; docs/ccd.md).
+    pub ccd: bool,
+    /// `ccd_substeps`: sub-steps per frame step of continuous detection's
+    /// ground truth.
+    pub ccd_substeps: u32,
     /// `[environment] subdivide`, applied in order to the room once built.
     pub subdivide: Vec<SubdivideObject>,
 }
@@ -301,6 +307,8 @@ struct RawScenario {
     methods: Option<Spanned<Vec<Method>>>,
     dedup: Option<bool>,
     threshold: Option<Spanned<f64>>,
+    ccd: Option<bool>,
+    ccd_substeps: Option<Spanned<i64>>,
     #[serde(default)]
     recording: Option<RawRecording>,
 }
@@ -661,6 +669,11 @@ impl Scenario {
             .map_err(|m| err_at(t.span(), "threshold", m))? as Real,
             None => DEFAULT_THRESHOLD,
         };
+        let ccd_substeps = match raw.ccd_substeps {
+            Some(n) => ranges::whole(*n.get_ref(), 1, ranges::MAX_CCD_SUBSTEPS)
+                .map_err(|m| err_at(n.span(), "ccd_substeps", m))? as u32,
+            None => crate::truth::substep::DEFAULT_SUBSTEPS,
+        };
         let recording = match raw.recording {
             Some(r) => {
                 let every = |v: &Option<Spanned<i64>>, field: &str| match v {
@@ -690,6 +703,8 @@ impl Scenario {
             dedup: raw.dedup.unwrap_or(true),
             threshold,
             recording,
+            ccd: raw.ccd.unwrap_or(false),
+            ccd_substeps,
             subdivide,
         })
     }

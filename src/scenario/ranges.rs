@@ -23,6 +23,9 @@ pub const MAX_FPS: f64 = 1.0e4;
 /// triangle is big and divisions stop at their level cap anyway).
 pub const MIN_THRESHOLD: f64 = 1.0e-6;
 pub const MAX_THRESHOLD: f64 = 1.0e6;
+/// Most sub-steps per frame step of continuous detection's ground truth
+/// (`ccd_substeps`; each costs an exact test per candidate pair).
+pub const MAX_CCD_SUBSTEPS: i64 = 65_536;
 /// Most characters and moving objects in one scenario (character pairs
 /// are tested pairwise each frame).
 pub const MAX_CHARACTERS: usize = 256;

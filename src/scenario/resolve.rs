@@ -56,6 +56,10 @@ pub struct Resolved {
     pub dedup: bool,
     pub threshold: Real,
     pub recording: Recording,
+    /// Continuous detection beside the frames, and its ground truth's
+    /// sub-steps per frame step (`ccd`, `ccd_substeps`).
+    pub ccd: bool,
+    pub ccd_substeps: u32,
     /// Bytes the bodies, hierarchies and ground truth are estimated to take
     /// (charged to the [`RunLimits`] they were resolved with).
     pub estimated_bytes: usize,
@@ -605,6 +609,8 @@ pub fn resolve_with(
         dedup: s.dedup,
         threshold: s.threshold,
         recording: s.recording,
+        ccd: s.ccd,
+        ccd_substeps: s.ccd_substeps,
     })
 }
 

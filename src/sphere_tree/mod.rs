@@ -8,6 +8,8 @@
 //! | [`containment`] | distinct vertices per node; checking refit spheres hold them |
 //! | [`refit`] | on-demand refit from per-joint weight ranges (§3 sphere update) |
 //! | [`validate`] | the public validator tests call after every step |
+//! | [`swept`] | swept spheres of the character tree over a frame step, refit at both ends on demand (continuous detection) |
+//! | [`swept_rigid`] | swept spheres of a rigid body's tree over a step (its chord and its rotation) |
 //! | [`traverse`] | simultaneous traversal of two trees with a reusable [`Workspace`] |
 //! | [`grouped`] | the same, descending each sphere once per group of leaves (a big triangle's division) |
 //!
@@ -24,6 +26,8 @@ pub mod containment;
 pub mod grouped;
 pub mod node;
 pub mod refit;
+pub mod swept;
+pub mod swept_rigid;
 pub mod traverse;
 pub mod validate;
 

@@ -7,6 +7,8 @@
 //! | [`parry_world`] | [`ParryWorld`]: the parry3d baseline for a whole world (a `TriMesh` per body, a broad phase over their boxes, BVH leaf pairs, parry's `f32` test) |
 //! | [`disagreement`] | the pairs two answers differ on, each classified as touching, near-degenerate or a true error |
 //! | [`frame_truth`] | a frame's truth (exact pairs on parry's broad phase), parry's answer beside it, and a method's score: accuracy, false positives with distances, false negatives with causes |
+//! | [`substep`] | the truth of continuous detection: the exact oracle on dense sub-steps of each frame step |
+//! | [`substep_score`] | a continuous step against it: recall, misses, pairs only continuous detection found, classified by refining around their time of impact |
 //! | [`accuracy`] | precision and recall per frame and over a run, at the levels of pairs, character triangles and frames |
 //!
 //! Every pair list here is a sorted list of distinct `(character triangle,
@@ -25,6 +27,8 @@ pub mod disagreement;
 pub mod frame_truth;
 pub mod parry_reference;
 pub mod parry_world;
+pub mod substep;
+pub mod substep_score;
 pub mod world_truth;
 
 pub use accuracy::{Accuracy, AccuracyTotals, FrameAccuracy};

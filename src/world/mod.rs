@@ -5,15 +5,21 @@
 //! | file | what |
 //! |---|---|
 //! | [`session`] | [`World`]: builds every method's hierarchies for a scene; [`World::step`] plays a frame |
+//! | [`continuous`] | [`ContinuousWorld`]: continuous detection of every frame step beside a world (swept hierarchies, times of impact) |
+//! | [`continuous_outcome`] | [`ContinuousOutcome`]: pairs touching during a step, with times of impact |
 //! | [`outcome`] | [`MethodOutcome`]: counters per pair kind and in total, pairs of every kind |
 //! | [`motion`] | [`Motion`]: an object's pose over time (waypoints, hinge, a room door's swing) |
 //! | [`shapes`] | meshes of the generated objects (box, panel, ball, door) |
 
+pub mod continuous;
+pub mod continuous_outcome;
 pub mod motion;
 pub mod outcome;
 pub mod session;
 pub mod shapes;
 
+pub use continuous::ContinuousWorld;
+pub use continuous_outcome::{ContinuousOutcome, Timed};
 pub use motion::Motion;
 pub use outcome::{
     ByKind, CharacterPair, MethodOutcome, ObjectPair, PairKind, RoomPair, add_counters,

@@ -371,6 +371,12 @@ impl MethodWorld {
         self.characters[c].get_mut().expect("no pass panicked")
     }
 
+    /// Every character's pipeline behind its lock (for passes run beside
+    /// the frame's, such as continuous detection, which read their trees).
+    pub fn character_pipelines(&self) -> &[Mutex<Pipeline>] {
+        &self.characters
+    }
+
     /// Every character's pipeline, in order.
     pub fn pipelines(&mut self) -> impl Iterator<Item = &mut Pipeline> {
         self.characters

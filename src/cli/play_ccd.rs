@@ -1,0 +1,187 @@
+//! `run --ccd`'s observer of the frame loop ([`super::play`]): continuous
+//! detection of every method over each frame step, its score against the
+//! sub-stepped reference, its part of the JSON report and of the
+//! recordings (docs/ccd.md, "In the driver").
+
+use cornertree::geometry::Point;
+use cornertree::geometry::ccd_root_finder::CcdParams;
+use cornertree::record::ccd_recorder::{CcdRecorder, StepView};
+use cornertree::report::continuous::{
+    ContinuousFrameRecord, ContinuousTotals, discrete_step_pairs,
+};
+use cornertree::truth::substep::{StepBodies, SubstepTruth};
+use cornertree::truth::substep_score::{StepPair, score_step};
+use cornertree::world::{ContinuousWorld, World};
+use nalgebra::Isometry3;
+
+/// Continuous detection beside a run.
+pub struct ContinuousObserver {
+    cw: ContinuousWorld,
+    truth: Option<SubstepTruth>,
+    substeps: u32,
+    /// Every character's skinned vertices and every object's pose at the
+    /// previous frame (for the reference and the recordings).
+    prev_positions: Vec<Vec<Point>>,
+    prev_poses: Vec<Isometry3<f32>>,
+    /// Each method's discrete pairs at the previous frame and this one.
+    prev_discrete: Vec<Vec<StepPair>>,
+    discrete: Vec<Vec<StepPair>>,
+    recorders: Vec<Option<CcdRecorder>>,
+    pub totals: Vec<ContinuousTotals>,
+}
+
+impl ContinuousObserver {
+    /// For every method of `world`; the reference if `truth`; a recorder
+    /// for the methods `recorded` says.
+    pub fn new(world: &World, substeps: u32, truth: bool, recorded: &[bool]) -> Self {
+        let n = world.methods.len();
+        let recorders = world
+            .methods
+            .iter()
+            .zip(recorded)
+            .map(|(mw, &on)| {
+                on.then(|| {
+                    let guards: Vec<_> = mw
+                        .character_pipelines()
+                        .iter()
+                        .map(|p| p.lock().expect("no pass panicked"))
+                        .collect();
+                    let trees: Vec<_> = guards.iter().map(|g| &g.character_tree).collect();
+                    CcdRecorder::new(&world.scene, &trees)
+                })
+            })
+            .collect();
+        Self {
+            cw: ContinuousWorld::new(world, CcdParams::default()),
+            truth: truth.then(|| SubstepTruth::new(&world.scene, substeps)),
+            substeps,
+            prev_positions: Vec::new(),
+            prev_poses: Vec::new(),
+            prev_discrete: vec![Vec::new(); n],
+            discrete: vec![Vec::new(); n],
+            recorders,
+            totals: vec![ContinuousTotals::default(); n],
+        }
+    }
+
+    /// Whether every vertex must be skinned each frame (the reference).
+    pub fn wants_skin(&self) -> bool {
+        self.truth.is_some()
+    }
+
+    /// The reference of the step ending at frame `k` (every vertex of
+    /// `world` skinned for `k`).
+    pub fn begin_frame(&mut self, world: &World, k: usize) {
+        if k == 0 || self.prev_positions.is_empty() {
+            return;
+        }
+        if let Some(mut t) = self.truth.take() {
+            t.update(&bodies(&self.prev_positions, &self.prev_poses, world));
+            self.truth = Some(t);
+        }
+    }
+
+    /// Method `m`'s step ending at frame `k`, after its discrete frame
+    /// (whose pairs are read from `world`); logs to `rec` if given.
+    pub fn method(
+        &mut self,
+        world: &mut World,
+        k: usize,
+        m: usize,
+        rec: Option<&rerun::RecordingStream>,
+    ) -> rerun::RecordingStreamResult<Option<ContinuousFrameRecord>> {
+        self.cw.detect(world, k, m);
+        discrete_step_pairs(&world.methods[m].outcome, &mut self.discrete[m]);
+        if k == 0 || self.prev_positions.is_empty() {
+            return Ok(None);
+        }
+        let world = &*world;
+        let outcome = self.cw.outcome(m);
+        let bodies = bodies(&self.prev_positions, &self.prev_poses, world);
+        let score = self
+            .truth
+            .as_ref()
+            .map(|t| score_step(t, outcome, &bodies, &self.cw.params));
+        let record =
+            ContinuousFrameRecord::new(outcome, &self.prev_discrete[m], &self.discrete[m], score);
+        self.totals[m].add(&record, self.substeps);
+        if let (Some(rec), Some(r)) = (rec, &self.recorders[m]) {
+            let view = StepView {
+                scene: &world.scene,
+                outcome,
+                start: bodies.start.clone(),
+                end: bodies.end.clone(),
+                object_start: &self.prev_poses,
+                object_end: &world.object_poses,
+                sweeps: (0..world.scene.characters.len())
+                    .map(|c| self.cw.sweep(m, c))
+                    .collect(),
+                missed_by_discrete: &record.missed_by_discrete,
+                recall: record.reference.as_ref().map(|s| s.recall),
+            };
+            r.log_step(rec, k, &view)?;
+        }
+        Ok(Some(record))
+    }
+
+    /// Ends frame `k`: its pose becomes the next step's start.
+    pub fn end_frame(&mut self, world: &World, k: usize) {
+        self.cw.end_frame(world, k);
+        self.prev_positions
+            .resize_with(world.buffers.len(), Vec::new);
+        for (p, b) in self.prev_positions.iter_mut().zip(&world.buffers) {
+            p.clone_from(&b.positions);
+        }
+        self.prev_poses.clone_from(&world.object_poses);
+        std::mem::swap(&mut self.prev_discrete, &mut self.discrete);
+    }
+
+    /// One line per method for the run's summary.
+    pub fn summary(&self, world: &World) -> String {
+        let mut out = format!(
+            "continuous detection (per frame step; reference: exact oracle on {} sub-steps):\n",
+            self.substeps
+        );
+        for (mw, t) in world.methods.iter().zip(&self.totals) {
+            out += &format!(
+                "  {:32} {} steps, {} pairs, {} missed by discrete at both ends ({} steps), earliest toi {}, {:.3} ms mean / {:.3} max",
+                mw.method.name(),
+                t.steps,
+                t.pairs,
+                t.missed_by_discrete,
+                t.steps_missed_by_discrete,
+                t.earliest_toi
+                    .map_or("-".to_string(), |x| format!("{x:.4}")),
+                t.mean_wall_ms,
+                t.max_wall_ms,
+            );
+            if let Some(r) = &t.reference {
+                out += &format!(
+                    "; recall {:.3} ({} of {} contacts, lowest step {:.3}); only continuous: {:?}",
+                    r.recall, r.found, r.contacts, r.min_step_recall, r.only_continuous
+                );
+            }
+            out += "\n";
+        }
+        out
+    }
+}
+
+/// The step between the previous frame (`prev_*`) and `world`'s.
+fn bodies<'a>(
+    prev_positions: &'a [Vec<Point>],
+    prev_poses: &'a [Isometry3<f32>],
+    world: &'a World,
+) -> StepBodies<'a> {
+    StepBodies {
+        scene: &world.scene,
+        start: prev_positions.iter().map(Vec::as_slice).collect(),
+        end: world
+            .buffers
+            .iter()
+            .map(|b| b.positions.as_slice())
+            .collect(),
+        object_start: prev_poses,
+        object_end: &world.object_poses,
+    }
+}
