@@ -99,6 +99,18 @@ impl CharacterTree {
             })
             .filter(|g: &Vec<usize>| !g.is_empty())
             .collect();
+        // A joint tree no extremity holds (a damaged skeleton's joints can
+        // escape the trunk-and-branches reading) is a group of its own.
+        let mut held = vec![false; joint_trees.len()];
+        groups.iter().flatten().for_each(|&t| held[t] = true);
+        let groups: Vec<Vec<usize>> = groups
+            .into_iter()
+            .chain(
+                (0..joint_trees.len())
+                    .filter(|&t| !held[t])
+                    .map(|t| vec![t]),
+            )
+            .collect();
 
         let (tree, origin) = assemble(character, &joint_trees, &per_joint, &groups);
         let refit = RefitData::new(character, model, &tree, &origin, &joint_trees);
@@ -197,6 +209,10 @@ fn assemble(
     per_joint: &[Vec<TriangleId>],
     groups: &[Vec<usize>],
 ) -> (SphereTree, Vec<Origin>) {
+    if groups.is_empty() {
+        // No triangle kept (every one degenerate or left out): no tree.
+        return (SphereTree::default(), Vec::new());
+    }
     let mesh = &character.mesh;
     let tree_root = |t: usize| joint_trees[t].1.node(NodeId::ROOT).sphere;
     // Minimal sphere of the trees' vertices, grown to hold the children's spheres.
