@@ -2,11 +2,13 @@
 //! future work, §7; docs/ccd.md, "Swept hierarchies"): the character's
 //! swept spheres (`sphere_tree::swept`), refit on demand at both ends, are
 //! traversed against the room's static tree, a moving object's swept tree
-//! or another character's swept tree, with the discrete methods' traversal
-//! (`sphere_tree::traverse`, `traverse_guarded` and the plane guard of the
-//! pruned methods, which a swept sphere passes whenever any sphere of the
-//! step would), then answered by the leaf tests of
-//! [`super::continuous_narrow`].
+//! or another character's swept tree with the discrete methods' traversal
+//! (`sphere_tree::traverse`, `traverse_guarded`). Against the room and
+//! between characters its guard refines every pair the swept spheres keep
+//! with the node's interpolated spheres (found from its tagged swept
+//! sphere): against the other node's sphere, and in the pruned methods
+//! against a big triangle's plane at every node of its division. The leaf
+//! pairs are answered by [`super::continuous_narrow`].
 //!
 //! [`CharacterSweep`] keeps what one character needs between steps: refit
 //! states and on-demand skinning at both ends. The end of one step is the

@@ -5,7 +5,8 @@
 //! A case is read (`Scenario::parse`), resolved within [`LIMITS`] (bodies
 //! loaded or generated, placements worked out), every method's hierarchies
 //! are built (`World::new`), the ground truth is set up, and the first and
-//! last frames are played through every method and the truth.
+//! last frames are played through every method and the truth; with
+//! `ccd = true`, the last step is also detected continuously.
 
 use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -174,6 +175,14 @@ fn run(text: &str, path: &Path) -> Result<Outcome, String> {
                 .map_err(|e| format!("ground truth of frame {k}: {e}"))?;
         }
         world.detect_all();
+    }
+    // `ccd = true`: continuous detection of the last step (posing its start).
+    if world.scene.ccd && frames > 1 {
+        let mut cw = cornertree::world::ContinuousWorld::new(
+            &world,
+            cornertree::geometry::ccd_root_finder::CcdParams::default(),
+        );
+        cw.detect_all(&mut world, frames - 1);
     }
     Ok(Outcome::Played)
 }
