@@ -142,7 +142,9 @@ fn every_shipped_scenario_is_tested() {
             "handshake.toml",
             "living_room.toml",
             "museum.toml",
-            "touching.toml"
+            "touching.toml",
+            // Continuous detection: tests/ccd_world.rs, tests/ccd_recordings.rs.
+            "tunnel.toml"
         ]
     );
 }
