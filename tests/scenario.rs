@@ -143,7 +143,7 @@ fn every_shipped_scenario_is_tested() {
             "living_room.toml",
             "museum.toml",
             "touching.toml",
-            // Continuous detection: tests/ccd_world.rs runs it with --ccd.
+            // Continuous detection: tests/ccd_world.rs, tests/ccd_recordings.rs.
             "tunnel.toml"
         ]
     );
