@@ -33,11 +33,10 @@ use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::{RefitState, Refitter};
 use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
 use crate::sphere_tree::{
-    BuildParams, GroupMarks, Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_grouped,
+    BuildParams, Hierarchy, NodeId, PassMarks, SphereTree, Workspace, traverse, traverse_grouped,
     traverse_guarded,
 };
 
-use super::repeat_filter::RepeatFilter;
 use super::visit_log::{NoLog, TestedNodes, VisitLog};
 use super::{EnvironmentTree, LeafTest, Method};
 
@@ -111,10 +110,10 @@ pub struct Pipeline {
     /// This frame's colliding pairs with the room, sorted, distinct.
     pub pairs: Vec<(u32, u32)>,
     /// Pairs already tested in this pass (methods that test each pair once).
-    pub(super) repeats: RepeatFilter,
+    pub(super) repeats: PassMarks,
     /// Character spheres already descended against a big triangle in this
     /// traversal (methods that test each pair once).
-    pub(super) group_marks: GroupMarks,
+    pub(super) group_marks: PassMarks,
     /// Whether the first frame has sized the buffers.
     warmed_up: bool,
     /// Whether refit time is measured apart from traversal.
@@ -210,7 +209,7 @@ impl Pipeline {
         let character_tree =
             CharacterTree::build(character, dedup, options.skinning, options.build);
         let refit = RefitState::new(&character_tree, character.skeleton.len());
-        let group_marks = GroupMarks::new(character_tree.tree.len());
+        let group_marks = PassMarks::new(character_tree.tree.len());
         Self {
             method,
             character_tree,
@@ -221,7 +220,7 @@ impl Pipeline {
             leaf_pairs: Vec::new(),
             object_leaf_pairs: Vec::new(),
             pairs: Vec::new(),
-            repeats: RepeatFilter::new(character.mesh.triangle_count()),
+            repeats: PassMarks::new(character.mesh.triangle_count()),
             group_marks,
             warmed_up: false,
             time_refit: true,

@@ -132,7 +132,7 @@ impl Method {
     /// with the plane and edge-plane guard of
     /// [`super::EnvironmentTree::plane_prism_guard`]) and a (character
     /// triangle, big triangle) pair reached twice is tested once
-    /// ([`super::repeat_filter`]); the paper's methods descend and test every
+    /// ([`crate::sphere_tree::PassMarks`]); the paper's methods descend and test every
     /// leaf pair.
     pub fn tests_each_pair_once(self) -> bool {
         self == Method::PrunedTriTri

@@ -15,44 +15,10 @@
 //! sphere first descended through an inner node of the group and again
 //! through an ancestor), which the caller's repeat filter absorbs.
 
-use super::node::{Node, NodeId};
-use super::traverse::{Hierarchy, LeafPair, TraversalStats, Workspace, prefetch_next};
+use super::node::NodeId;
+use super::pass_marks::PassMarks;
+use super::traverse::{Hierarchy, LeafPair, TraversalStats, Workspace, traverse_core};
 use crate::geometry::Sphere;
-
-/// Per sphere of `a`, the last group it was descended against in the current
-/// traversal; a traversal stamp makes clearing free.
-#[derive(Clone, Debug, Default)]
-pub struct GroupMarks {
-    last: Vec<(u32, u32)>,
-    pass: u32,
-}
-
-impl GroupMarks {
-    /// Marks for a tree of `nodes` spheres.
-    pub fn new(nodes: usize) -> Self {
-        Self {
-            last: vec![(0, 0); nodes],
-            pass: 0,
-        }
-    }
-
-    fn begin_pass(&mut self) {
-        self.pass = self.pass.wrapping_add(1);
-        if self.pass == 0 {
-            self.last.fill((0, 0));
-            self.pass = 1;
-        }
-    }
-
-    /// Whether `id` meets group `g` for the first time in this pass; notes it.
-    #[inline]
-    fn first_time(&mut self, id: NodeId, g: u32) -> bool {
-        let e = &mut self.last[id.index()];
-        let first = *e != (self.pass, g);
-        *e = (self.pass, g);
-        first
-    }
-}
 
 /// [`traverse_guarded`](super::traverse_guarded) where `group(j)` gives, for
 /// a leaf `j` of `b` that belongs to a group, the group's index and a sphere
@@ -61,10 +27,10 @@ pub fn traverse_grouped<A, B, K, G, F>(
     a: &mut A,
     b: &mut B,
     ws: &mut Workspace,
-    marks: &mut GroupMarks,
-    mut group: K,
-    mut guard: G,
-    mut on_leaf_pair: F,
+    marks: &mut PassMarks,
+    group: K,
+    guard: G,
+    on_leaf_pair: F,
 ) -> TraversalStats
 where
     A: Hierarchy + ?Sized,
@@ -73,80 +39,18 @@ where
     G: FnMut(NodeId, &Sphere) -> bool,
     F: FnMut(LeafPair),
 {
-    let mut stats = TraversalStats::default();
-    if a.tree().is_empty() || b.tree().is_empty() {
-        return stats;
-    }
-    marks.begin_pass();
-    ws.stack.clear();
-    stats.sphere_tests += 1;
-    a.tested(NodeId::ROOT);
-    b.tested(NodeId::ROOT);
-    if a.sphere(NodeId::ROOT).overlaps(&b.sphere(NodeId::ROOT)) {
-        ws.stack.push((NodeId::ROOT, NodeId::ROOT));
-    }
-    while let Some((i, j)) = ws.stack.pop() {
-        let na: Node = *a.tree().node(i);
-        let nb: Node = *b.tree().node(j);
-        let grouped = if nb.is_leaf() { group(j) } else { None };
-        if let Some((g, _)) = grouped
-            && !marks.first_time(i, g)
-        {
-            continue;
-        }
-        match (na.primitive(), nb.primitive()) {
-            (Some(pa), Some(pb)) => {
-                stats.leaf_pairs += 1;
-                on_leaf_pair(LeafPair {
-                    leaf_a: i,
-                    leaf_b: j,
-                    primitive_a: pa,
-                    primitive_b: pb,
-                });
-            }
-            _ => {
-                let sa = a.sphere(i);
-                // A group's leaf is met by the group's sphere.
-                let sb = grouped.map_or_else(|| b.sphere(j), |(_, s)| s);
-                let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
-                if open_a {
-                    for c in na.children() {
-                        stats.sphere_tests += 1;
-                        a.tested(NodeId(c));
-                        b.tested(j);
-                        let sc = a.sphere(NodeId(c));
-                        if sc.overlaps(&sb) && guard(j, &sc) {
-                            ws.stack.push((NodeId(c), j));
-                            prefetch_next(a, b, NodeId(c), j, sc.radius, sb.radius);
-                        }
-                    }
-                } else {
-                    for c in nb.children() {
-                        stats.sphere_tests += 1;
-                        a.tested(i);
-                        b.tested(NodeId(c));
-                        let sc = b.sphere(NodeId(c));
-                        if sa.overlaps(&sc) && guard(NodeId(c), &sa) {
-                            ws.stack.push((i, NodeId(c)));
-                            prefetch_next(a, b, i, NodeId(c), sa.radius, sc.radius);
-                        }
-                    }
-                }
-                stats.max_stack = stats.max_stack.max(ws.stack.len());
-            }
-        }
-    }
-    stats
+    traverse_core(a, b, ws, Some(marks), group, guard, on_leaf_pair)
 }
 
 #[cfg(test)]
 mod tests {
     use std::collections::BTreeSet;
 
-    use super::{GroupMarks, traverse_grouped};
+    use super::traverse_grouped;
     use crate::geometry::enclosing::points_sphere;
     use crate::geometry::{Point, Sphere};
     use crate::mesh::{TriMesh, TriangleId};
+    use crate::sphere_tree::PassMarks;
     use crate::sphere_tree::{BuildParams, NodeId, SphereTree, Workspace, build_tree, traverse};
 
     fn soup(seed: u64, n: usize, spread: f32, size: f32) -> TriMesh {
@@ -220,7 +124,7 @@ mod tests {
                 plain.insert((p.primitive_a, group_of(p.primitive_b)));
             });
             let mut grouped = BTreeSet::new();
-            let mut marks = GroupMarks::new(ta.len());
+            let mut marks = PassMarks::new(ta.len());
             let leaf_primitive = |j: NodeId| tb.node(j).primitive();
             let prims: Vec<Option<u32>> = (0..tb.len() as u32)
                 .map(|j| leaf_primitive(NodeId(j)))

@@ -11,6 +11,7 @@
 //! | [`swept`] | swept spheres of the character tree over a frame step, refit at both ends on demand (continuous detection) |
 //! | [`swept_rigid`] | swept spheres of a rigid body's tree over a step (its chord and its rotation) |
 //! | [`traverse`] | simultaneous traversal of two trees with a reusable [`Workspace`] |
+//! | [`pass_marks`] | per index, the last key met in a pass (no clearing between passes) |
 //! | [`grouped`] | the same, descending each sphere once per group of leaves (a big triangle's division) |
 //!
 //! Invariants (checked by [`SphereTree::validate`]): node 0 is the root; the
@@ -25,6 +26,7 @@ pub mod character;
 pub mod containment;
 pub mod grouped;
 pub mod node;
+pub mod pass_marks;
 pub mod refit;
 pub mod swept;
 pub mod swept_rigid;
@@ -32,7 +34,8 @@ pub mod traverse;
 pub mod validate;
 
 pub use build::{BuildParams, build_tree};
-pub use grouped::{GroupMarks, traverse_grouped};
+pub use grouped::traverse_grouped;
 pub use node::{Node, NodeId, SphereTree};
+pub use pass_marks::PassMarks;
 pub use traverse::{Hierarchy, TraversalStats, Workspace, traverse, traverse_guarded};
 pub use validate::TreeError;

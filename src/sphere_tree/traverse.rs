@@ -10,6 +10,7 @@
 use crate::geometry::Sphere;
 
 use super::node::{Node, NodeId, SphereTree};
+use super::pass_marks::PassMarks;
 
 /// A sphere tree as traversal sees it: fixed topology, and each node's sphere
 /// for the current frame. A refitting hierarchy computes a sphere the first time
@@ -61,7 +62,7 @@ impl Hierarchy for SphereTree {
 /// Scratch space kept between queries.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    pub(super) stack: Vec<(NodeId, NodeId)>,
+    stack: Vec<(NodeId, NodeId)>,
 }
 
 impl Workspace {
@@ -127,8 +128,8 @@ pub fn traverse_guarded<A, B, G, F>(
     a: &mut A,
     b: &mut B,
     ws: &mut Workspace,
-    mut guard: G,
-    mut on_leaf_pair: F,
+    guard: G,
+    on_leaf_pair: F,
 ) -> TraversalStats
 where
     A: Hierarchy + ?Sized,
@@ -136,9 +137,36 @@ where
     G: FnMut(NodeId, &crate::geometry::Sphere) -> bool,
     F: FnMut(LeafPair),
 {
+    traverse_core(a, b, ws, None, |_| None, guard, on_leaf_pair)
+}
+
+/// The traversal behind [`traverse_guarded`] and
+/// [`super::grouped::traverse_grouped`]: with `marks`, a leaf `j` of `b`
+/// for which `group(j)` names a group descends each sphere of `a` once per
+/// group, against the group's sphere (see [`super::grouped`]); without, no
+/// leaf is grouped.
+pub(super) fn traverse_core<A, B, K, G, F>(
+    a: &mut A,
+    b: &mut B,
+    ws: &mut Workspace,
+    mut marks: Option<&mut PassMarks>,
+    mut group: K,
+    mut guard: G,
+    mut on_leaf_pair: F,
+) -> TraversalStats
+where
+    A: Hierarchy + ?Sized,
+    B: Hierarchy + ?Sized,
+    K: FnMut(NodeId) -> Option<(u32, Sphere)>,
+    G: FnMut(NodeId, &Sphere) -> bool,
+    F: FnMut(LeafPair),
+{
     let mut stats = TraversalStats::default();
     if a.tree().is_empty() || b.tree().is_empty() {
         return stats;
+    }
+    if let Some(m) = marks.as_deref_mut() {
+        m.begin_pass();
     }
     ws.stack.clear();
     stats.sphere_tests += 1;
@@ -150,6 +178,13 @@ where
     while let Some((i, j)) = ws.stack.pop() {
         let na: Node = *a.tree().node(i);
         let nb: Node = *b.tree().node(j);
+        let grouped = match marks.as_deref_mut() {
+            Some(m) if nb.is_leaf() => match group(j) {
+                Some((g, _)) if !m.first_time(i.0, g) => continue,
+                found => found,
+            },
+            _ => None,
+        };
         match (na.primitive(), nb.primitive()) {
             (Some(pa), Some(pb)) => {
                 stats.leaf_pairs += 1;
@@ -162,7 +197,8 @@ where
             }
             _ => {
                 let sa = a.sphere(i);
-                let sb = b.sphere(j);
+                // A group's leaf is met by the group's sphere.
+                let sb = grouped.map_or_else(|| b.sphere(j), |(_, s)| s);
                 let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
                 if open_a {
                     for c in na.children() {
@@ -198,7 +234,7 @@ where
 /// the children traversal will test when it pops the pair (the side it will
 /// open, by the rule of [`traverse_guarded`]).
 #[inline(always)]
-pub(super) fn prefetch_next<A, B>(a: &A, b: &B, i: NodeId, j: NodeId, ra: f32, rb: f32)
+fn prefetch_next<A, B>(a: &A, b: &B, i: NodeId, j: NodeId, ra: f32, rb: f32)
 where
     A: Hierarchy + ?Sized,
     B: Hierarchy + ?Sized,
