@@ -3,34 +3,16 @@
 //! global allocator that counts, over contacts, near misses, sliding and
 //! piercing pairs, and a search stopped by its box budget.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::Ordering;
 
 use cornertree::geometry::ccd_edge_edge::edge_edge;
 use cornertree::geometry::ccd_root_finder::CcdParams;
 use cornertree::geometry::ccd_triangles::{MovingTriangle, triangles};
 use cornertree::geometry::ccd_vertex_face::vertex_face;
 
-struct Counting;
-
-static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
+#[path = "common/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::ALLOCATIONS;
 
 fn shifted(t: [[f64; 3]; 3], d: [f64; 3]) -> MovingTriangle<f64> {
     MovingTriangle {
