@@ -72,7 +72,7 @@ enum Command {
     /// leaf a character leaf met, beside the paper's figures.
     PlaneSphereStudy(cli::study::StudyArgs),
     /// Continuous collision detection on query files with exact answers
-    /// (the format of ../shared/ccd-queries: a vertex and a triangle, or two
+    /// (the format of assets/ccd-queries: a vertex and a triangle, or two
     /// edges, every point moving on a straight line over one step): runs the
     /// conservative vertex-face and edge-edge kernels on every query and
     /// prints, per file, per kind and in total, the queries, the positives

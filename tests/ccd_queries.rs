@@ -1,5 +1,5 @@
 //! The CCD kernels on the queries with exact answers of
-//! `../shared/ccd-queries` (Wang et al.'s benchmark, handcrafted part): no
+//! `assets/ccd-queries` (Wang et al.'s benchmark, handcrafted part): no
 //! contact missed, at most 5 % of the non-contacts reported, and every
 //! false positive within the certified tolerance.
 
@@ -10,7 +10,7 @@ use cornertree::io::ccd_queries::{QueryKind, find_query_files, read_queries};
 use cornertree::report::ccd_queries::{QueryFile, answer, evaluate, params_for};
 
 fn queries_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/ccd-queries")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/ccd-queries")
 }
 
 fn read_all() -> Vec<QueryFile> {

@@ -13,7 +13,7 @@ use cornertree::report::ccd_queries::{QueryFile, evaluate};
 #[derive(clap::Args)]
 pub struct CcdQueriesArgs {
     /// Query files (CSV) or directories, walked for *.csv files (e.g.
-    /// ../shared/ccd-queries).
+    /// assets/ccd-queries).
     #[arg(required = true)]
     pub paths: Vec<PathBuf>,
     /// The report as JSON: `{"tolerance", "files": [{path, kind, queries,

@@ -1,6 +1,6 @@
 //! Reading CCD query files: elementary continuous collision queries with
 //! exact answers, in the CSV format of the benchmark of Wang et al. (ACM
-//! TOG 40(5), 2021) described in `../shared/ccd-queries/README.md`.
+//! TOG 40(5), 2021) described in `assets/ccd-queries/README.md`.
 //!
 //! A file holds `8·n` rows for `n` queries, 7 integer columns per row:
 //! numerator and denominator of x, y and z (exact rationals, up to 112
