@@ -3,20 +3,25 @@
 //! hierarchies; [`World::step`] plays one frame through every method.
 //!
 //! Per method and frame:
-//! 1. every character, in parallel: start the frame (spheres and skinned
-//!    vertices stale), the pass against the room (exactly the one-character
-//!    pipeline of `pipeline::driver`), the world broad phase against every
-//!    object's root sphere at its pose, and the pass against each object
-//!    whose root it meets;
-//! 2. the broad phase between characters' root spheres, then the pairs that
-//!    meet, in rounds of pairs that share no character, each round in
-//!    parallel (each pair refits and skins its two characters on demand).
+//! 1. every character starts its frame (spheres and skinned vertices stale)
+//!    and refits its root sphere;
+//! 2. the broad phase between characters' root spheres orders each
+//!    character's pairs (in rounds of pairs that share no character);
+//! 3. every pass runs on the pool's threads ([`PassGraph`]): each
+//!    character's pass against the room (exactly the one-character pipeline
+//!    of `pipeline::driver`), the world broad phase against every object's
+//!    root sphere at its pose and the pass against each object it meets;
+//!    then its passes against the characters it meets, in the order of 2
+//!    (each refits and skins both characters on demand). A pass starts as
+//!    soon as its characters' earlier passes are done: no barrier between
+//!    the room passes and the character pairs.
 //!
 //! Which thread runs what never changes a counter or a pair: a pass's tests
-//! do not depend on which spheres were refit before it, and each sphere and
-//! vertex is refit or skinned at most once a frame whichever pass asks first
-//! (per-kind refit and skinning counts do depend on that order; the totals
-//! do not). Pairs are sorted at the end of the frame.
+//! do not depend on which spheres were refit before it, each sphere and
+//! vertex is refit or skinned at most once a frame whichever pass asks
+//! first, and each character's passes keep one order (the per-kind refit
+//! and skinning counts depend on that order; the totals do not). Pairs are
+//! sorted at the end of the frame.
 
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
@@ -35,6 +40,7 @@ use crate::scenario::Resolved;
 use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{NodeId, Workspace};
 
+use super::pass_graph::PassGraph;
 use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
 
 /// A world being played.
@@ -71,13 +77,15 @@ pub struct MethodWorld {
     pub objects: Vec<EnvironmentTree>,
     /// One pipeline per character (its tree, refit state and the room).
     characters: Vec<Mutex<Pipeline>>,
-    per_character: Vec<CharacterScratch>,
+    per_character: Vec<Mutex<CharacterScratch>>,
     object_roots: Vec<Option<Sphere>>,
     /// Character pairs whose roots met this frame, `(i, j)` with `i < j`, and
     /// their round.
     candidates: Vec<(u32, u32, u32)>,
     next_round: Vec<u32>,
-    pair_scratch: Vec<PairScratch>,
+    pair_scratch: Vec<Mutex<PairScratch>>,
+    /// The frame's passes and the order they may run in.
+    graph: PassGraph,
     /// This frame's outcome.
     pub outcome: MethodOutcome,
 }
@@ -354,11 +362,12 @@ impl MethodWorld {
             room,
             objects,
             characters,
-            per_character: (0..n).map(|_| CharacterScratch::default()).collect(),
+            per_character: (0..n).map(|_| Mutex::default()).collect(),
             object_roots: vec![None; scene.objects.len()],
             candidates: Vec::new(),
             next_round: vec![0; n],
             pair_scratch: Vec::new(),
+            graph: PassGraph::new(n),
             outcome: MethodOutcome {
                 method: Some(method),
                 ..MethodOutcome::default()
@@ -402,20 +411,78 @@ impl MethodWorld {
             *root = (!tree.tree.is_empty())
                 .then(|| sphere_in_frame(&tree.tree.nodes()[NodeId::ROOT.index()].sphere, pose));
         }
-        // 1. Each character against the room and the objects.
+        // 1. Each character's frame starts and its root sphere is refit (a
+        //    few dozen spheres; the room pass counts them, from the frame's
+        //    start, and would refit them first anyway).
+        for (i, (pipe, s)) in self
+            .characters
+            .iter_mut()
+            .zip(&mut self.per_character)
+            .enumerate()
+        {
+            let pipe = pipe.get_mut().expect("no pass panicked");
+            pipe.begin_frame(&buffers[i]);
+            s.get_mut().expect("no pass panicked").root = pipe.root_sphere(&buffers[i]);
+        }
+
+        // 2. The broad phase between characters' root spheres; a character
+        //    meets its pairs in rounds of pairs that share no character.
+        let n = self.characters.len();
+        let mut char_tests = 0u64;
+        self.candidates.clear();
+        self.next_round.iter_mut().for_each(|r| *r = 0);
+        for i in 0..n {
+            let Some(ri) = self.per_character[i].get_mut().expect("no pass panicked").root else {
+                continue;
+            };
+            for j in i + 1..n {
+                let Some(rj) = self.per_character[j].get_mut().expect("no pass panicked").root
+                else {
+                    continue;
+                };
+                char_tests += 1;
+                if ri.overlaps(&rj) {
+                    let round = self.next_round[i].max(self.next_round[j]);
+                    self.next_round[i] = round + 1;
+                    self.next_round[j] = round + 1;
+                    self.candidates.push((i as u32, j as u32, round));
+                }
+            }
+        }
+        // Candidates by round (stable: by pair within a round).
+        self.candidates.sort_by_key(|&(i, j, r)| (r, i, j));
+        while self.pair_scratch.len() < self.candidates.len() {
+            self.pair_scratch.push(Mutex::new(PairScratch {
+                a: 0,
+                b: 0,
+                counters: FrameCounters::default(),
+                pairs: Vec::new(),
+                leaf_pairs: Vec::new(),
+                workspace: Workspace::new(),
+            }));
+        }
+
+        // 3. Every pass: each character against the room and the objects,
+        //    then against the characters it meets, in that order per
+        //    character; passes of different characters run in parallel.
+        self.graph
+            .set_pairs(self.candidates.iter().map(|&(i, j, _)| (i, j)));
         let objects = &self.objects;
         let object_roots = &self.object_roots;
-        self.characters
-            .par_iter_mut()
-            .zip(self.per_character.par_iter_mut())
-            .enumerate()
-            .for_each(|(i, (pipe, s))| {
-                let pipe = pipe.get_mut().expect("no pass panicked");
+        let characters = &self.characters;
+        let per_character = &self.per_character;
+        let pair_scratch = &self.pair_scratch;
+        self.graph.run(|t, pair| match pair {
+            None => {
+                let i = t;
+                // A pass holds its characters alone: these locks are never
+                // contended.
+                let mut pipe = characters[i].lock().expect("no pass panicked");
+                let mut s = per_character[i].lock().expect("no pass panicked");
+                let s = &mut *s;
                 let actor = &scene.characters[i];
                 let b = &buffers[i];
-                pipe.begin_frame(b);
                 s.room = pipe.detect_room(b, &actor.character, &scene.environment.mesh);
-                s.root = pipe.root_sphere(b);
                 s.objects = FrameCounters::default();
                 s.broad_phase_tests = 0;
                 s.body_pairs = 0;
@@ -445,76 +512,28 @@ impl MethodWorld {
                             object_triangle: ot,
                         }));
                 }
-            });
-
-        // 2. Characters against each other: broad phase, then rounds.
-        let n = self.characters.len();
-        let mut char_tests = 0u64;
-        self.candidates.clear();
-        self.next_round.iter_mut().for_each(|r| *r = 0);
-        for i in 0..n {
-            let Some(ri) = self.per_character[i].root else {
-                continue;
-            };
-            for j in i + 1..n {
-                let Some(rj) = self.per_character[j].root else {
-                    continue;
-                };
-                char_tests += 1;
-                if ri.overlaps(&rj) {
-                    let round = self.next_round[i].max(self.next_round[j]);
-                    self.next_round[i] = round + 1;
-                    self.next_round[j] = round + 1;
-                    self.candidates.push((i as u32, j as u32, round));
-                }
             }
-        }
-        // Candidates by round (stable: by pair within a round).
-        self.candidates.sort_by_key(|&(i, j, r)| (r, i, j));
-        while self.pair_scratch.len() < self.candidates.len() {
-            self.pair_scratch.push(PairScratch {
-                a: 0,
-                b: 0,
-                counters: FrameCounters::default(),
-                pairs: Vec::new(),
-                leaf_pairs: Vec::new(),
-                workspace: Workspace::new(),
-            });
-        }
-        let characters = &self.characters;
-        let mut start = 0;
-        while start < self.candidates.len() {
-            let round = self.candidates[start].2;
-            let end = start
-                + self.candidates[start..]
-                    .iter()
-                    .take_while(|c| c.2 == round)
-                    .count();
-            self.pair_scratch[start..end]
-                .par_iter_mut()
-                .zip(&self.candidates[start..end])
-                .for_each(|(s, &(i, j, _))| {
-                    // Pairs of one round share no character: these locks
-                    // are never contended.
-                    let mut pa = characters[i as usize].lock().expect("no pass panicked");
-                    let mut pb = characters[j as usize].lock().expect("no pass panicked");
-                    s.a = i;
-                    s.b = j;
-                    let (ai, aj) = (&scene.characters[i as usize], &scene.characters[j as usize]);
-                    s.counters = detect_characters(
-                        &mut pa,
-                        &ai.character,
-                        &buffers[i as usize],
-                        &mut pb,
-                        &aj.character,
-                        &buffers[j as usize],
-                        &mut s.leaf_pairs,
-                        &mut s.workspace,
-                        &mut s.pairs,
-                    );
-                });
-            start = end;
-        }
+            Some((i, j)) => {
+                let mut s = pair_scratch[t - n].lock().expect("no pass panicked");
+                let s = &mut *s;
+                let mut pa = characters[i as usize].lock().expect("no pass panicked");
+                let mut pb = characters[j as usize].lock().expect("no pass panicked");
+                s.a = i;
+                s.b = j;
+                let (ai, aj) = (&scene.characters[i as usize], &scene.characters[j as usize]);
+                s.counters = detect_characters(
+                    &mut pa,
+                    &ai.character,
+                    &buffers[i as usize],
+                    &mut pb,
+                    &aj.character,
+                    &buffers[j as usize],
+                    &mut s.leaf_pairs,
+                    &mut s.workspace,
+                    &mut s.pairs,
+                );
+            }
+        });
 
         // 3. The outcome, in a fixed order.
         let out = &mut self.outcome;
@@ -531,11 +550,12 @@ impl MethodWorld {
         let (mut refits, mut skinned) = (0, 0);
         for (i, (s, pipe)) in self
             .per_character
-            .iter()
+            .iter_mut()
             .zip(self.characters.iter_mut())
             .enumerate()
         {
             let pipe = pipe.get_mut().expect("no pass panicked");
+            let s = s.get_mut().expect("no pass panicked");
             refits += pipe.refit_state().refits;
             skinned += pipe.skinned().skinned();
             add_counters(&mut out.by_kind.environment, &s.room);
@@ -551,7 +571,8 @@ impl MethodWorld {
                     room_triangle: rt,
                 }));
         }
-        for s in &self.pair_scratch[..self.candidates.len()] {
+        for s in &mut self.pair_scratch[..self.candidates.len()] {
+            let s = s.get_mut().expect("no pass panicked");
             add_counters(&mut out.by_kind.characters, &s.counters);
             out.character_pairs
                 .extend(s.pairs.iter().map(|&(ta, tb)| CharacterPair {
