@@ -263,7 +263,10 @@ mod tests {
     /// (no barrier after the characters' own passes).
     #[test]
     fn a_long_pair_runs_beside_other_passes() {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
         let mut g = PassGraph::new(4);
         g.set_pairs([(0, 1)]);
         let ms = |t: usize| match t {

@@ -40,8 +40,8 @@ use crate::scenario::Resolved;
 use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{NodeId, Workspace};
 
-use super::pass_graph::PassGraph;
 use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
+use super::pass_graph::PassGraph;
 
 /// A world being played.
 pub struct World {
@@ -432,11 +432,18 @@ impl MethodWorld {
         self.candidates.clear();
         self.next_round.iter_mut().for_each(|r| *r = 0);
         for i in 0..n {
-            let Some(ri) = self.per_character[i].get_mut().expect("no pass panicked").root else {
+            let Some(ri) = self.per_character[i]
+                .get_mut()
+                .expect("no pass panicked")
+                .root
+            else {
                 continue;
             };
             for j in i + 1..n {
-                let Some(rj) = self.per_character[j].get_mut().expect("no pass panicked").root
+                let Some(rj) = self.per_character[j]
+                    .get_mut()
+                    .expect("no pass panicked")
+                    .root
                 else {
                     continue;
                 };
