@@ -59,7 +59,9 @@ impl TrianglePrism {
     #[inline]
     pub fn may_meet(&self, s: &Sphere) -> bool {
         let c = s.center.coords.map(|x| x as f64);
-        let scale = c.norm() + s.radius as f64;
+        // The margin's scale: the 1-norm bounds the centre's length from
+        // above and takes no square root (a third of this test's time).
+        let scale = c.x.abs() + c.y.abs() + c.z.abs() + s.radius as f64;
         for k in 0..3 {
             let d = self.normals[k].dot(&c) - self.offsets[k];
             let slack = s.radius as f64 + MARGIN * (scale + self.offsets[k].abs());
