@@ -506,6 +506,23 @@ impl JointNorms {
         translation: 0.0,
     };
 
+    /// Zero norms: the start of a largest-so-far.
+    const ZERO: JointNorms = JointNorms {
+        stretch: 0.0,
+        frobenius: 0.0,
+        translation: 0.0,
+    };
+
+    /// Each norm the larger of the two (`f64::max`, exact).
+    #[inline]
+    fn max(&self, o: &JointNorms) -> JointNorms {
+        JointNorms {
+            stretch: self.stretch.max(o.stretch),
+            frobenius: self.frobenius.max(o.frobenius),
+            translation: self.translation.max(o.translation),
+        }
+    }
+
     fn of(m: &Matrix4<f32>) -> Self {
         let a = m.fixed_view::<3, 3>(0, 0);
         let t = m.fixed_view::<3, 1>(0, 3);
@@ -617,6 +634,32 @@ fn apply_f64(m: &Matrix4<f32>, c: &V64) -> V64 {
     )
 }
 
+/// `p` in `f64` (exact).
+#[inline]
+fn widen(p: &Point) -> V64 {
+    V64::new(p.x as f64, p.y as f64, p.z as f64)
+}
+
+/// A corner rule's sphere (module doc, item 4) around the `f64` point `p`
+/// (the corners' mean): the centre is `p` rounded to `f32`, `spread` comes
+/// from `spread_from(centre)`, `r` is the rest radius and `largest` holds
+/// the slots' largest `σ`, `α` and `τ`.
+#[inline]
+fn corner_sphere(
+    data: &RefitData,
+    p: V64,
+    spread_from: impl FnOnce(&V64) -> f64,
+    r: f64,
+    largest: JointNorms,
+    reach: f32,
+) -> (Point, f32) {
+    let center = Point::new(p.x as f32, p.y as f32, p.z as f32);
+    let spread = spread_from(&widen(&center));
+    let rho = largest.frobenius * reach as f64 + largest.translation;
+    let radius = spread + r * largest.stretch * (1.0 + data.weight_sum_error) + data.rounding * rho;
+    (center, radius_up(radius * (1.0 + F64_SLACK)))
+}
+
 /// A character tree posed for one frame: answers traversal's sphere requests,
 /// refitting on first request.
 pub struct Refitter<'a> {
@@ -655,37 +698,18 @@ impl Refitter<'_> {
                 // `Rule::Corners` with one corner, operation for operation:
                 // the same `f64` results, since a zero weight times a finite
                 // slot point adds an exact zero, as does the sum's start.
-                let data = &self.tree.refit;
                 let rest = rest.sphere;
-                let c = V64::new(
-                    rest.center.x as f64,
-                    rest.center.y as f64,
-                    rest.center.z as f64,
-                );
-                let norms = |j: u16| {
-                    if j == BASE {
-                        self.state.norms.last().unwrap()
-                    } else {
-                        &self.state.norms[j as usize]
-                    }
-                };
-                let (n, o) = (norms(joint), norms(norms_too));
-                let m = if joint == BASE {
-                    base
-                } else {
-                    &self.skin[joint as usize]
-                };
-                let p = apply_f64(m, &c) * weight;
-                let center = Point::new(p.x as f32, p.y as f32, p.z as f32);
-                let cw = V64::new(center.x as f64, center.y as f64, center.z as f64);
-                let spread = (p - cw).norm_squared().sqrt();
-                let sigma = n.stretch.max(o.stretch);
-                let rho =
-                    n.frobenius.max(o.frobenius) * reach as f64 + n.translation.max(o.translation);
-                let radius = spread
-                    + rest.radius as f64 * sigma * (1.0 + data.weight_sum_error)
-                    + data.rounding * rho;
-                (center, radius_up(radius * (1.0 + F64_SLACK)))
+                let (m, n) = self.slot(joint, base);
+                let (_, o) = self.slot(norms_too, base);
+                let p = apply_f64(m, &widen(&rest.center)) * weight;
+                corner_sphere(
+                    &self.tree.refit,
+                    p,
+                    |cw| (p - cw).norm_squared().sqrt(),
+                    rest.radius as f64,
+                    n.max(o),
+                    reach,
+                )
             }
             Rule::Corners {
                 jstart,
@@ -696,27 +720,17 @@ impl Refitter<'_> {
             } => {
                 let data = &self.tree.refit;
                 let rest = rest.sphere;
-                let c = V64::new(
-                    rest.center.x as f64,
-                    rest.center.y as f64,
-                    rest.center.z as f64,
-                );
-                let r = rest.radius as f64;
+                let c = widen(&rest.center);
                 let slots = &data.joints[jstart as usize..jend as usize];
                 let k = slots.len();
                 // Each slot's matrix applied to the rest centre, once; the
                 // largest stretch and the norms bounding rounding (`ρ`).
-                let (mut sigma, mut alpha, mut tau) = (0.0f64, 0.0f64, 0.0f64);
-                for (q, &j) in self.state.slot_points.iter_mut().zip(slots) {
-                    let (m, n) = if j == BASE {
-                        (base, self.state.norms.last().unwrap())
-                    } else {
-                        (&self.skin[j as usize], &self.state.norms[j as usize])
-                    };
-                    *q = apply_f64(m, &c);
-                    sigma = sigma.max(n.stretch);
-                    alpha = alpha.max(n.frobenius);
-                    tau = tau.max(n.translation);
+                let mut largest = JointNorms::ZERO;
+                for (i, &j) in slots.iter().enumerate() {
+                    let (m, n) = self.slot(j, base);
+                    let (q, n) = (apply_f64(m, &c), *n);
+                    self.state.slot_points[i] = q;
+                    largest = largest.max(&n);
                 }
                 let q = &self.state.slot_points[..k];
                 let weights = &data.weights[wstart as usize..wstart as usize + count as usize * k];
@@ -729,18 +743,20 @@ impl Refitter<'_> {
                         .fold(V64::zeros(), |acc, (v, x)| acc + v * *x);
                     sum += *p;
                 }
-                let mean = sum * (1.0 / count as f64);
-                let center = Point::new(mean.x as f32, mean.y as f32, mean.z as f32);
-                let cw = V64::new(center.x as f64, center.y as f64, center.z as f64);
-                let spread = corners
-                    .iter()
-                    .map(|p| (p - cw).norm_squared())
-                    .fold(0.0f64, f64::max)
-                    .sqrt();
-                let rho = alpha * reach as f64 + tau;
-                let radius =
-                    spread + r * sigma * (1.0 + data.weight_sum_error) + data.rounding * rho;
-                (center, radius_up(radius * (1.0 + F64_SLACK)))
+                corner_sphere(
+                    data,
+                    sum * (1.0 / count as f64),
+                    |cw| {
+                        corners
+                            .iter()
+                            .map(|p| (p - cw).norm_squared())
+                            .fold(0.0f64, f64::max)
+                            .sqrt()
+                    },
+                    rest.radius as f64,
+                    largest,
+                    reach,
+                )
             }
         };
         // Field by field: a whole-sphere copy from a temporary stalled on
@@ -763,6 +779,16 @@ impl Refitter<'_> {
         prefetch(self.state.spheres.as_ptr().wrapping_add(i));
         prefetch(self.tree.tree.nodes().as_ptr().wrapping_add(i));
         prefetch(self.tree.refit.rules.as_ptr().wrapping_add(i));
+    }
+
+    /// Slot joint `j`'s skin matrix and norms (`BASE`: the base frame's).
+    #[inline]
+    fn slot<'s>(&'s self, j: u16, base: &'s Matrix4<f32>) -> (&'s Matrix4<f32>, &'s JointNorms) {
+        if j == BASE {
+            (base, self.state.norms.last().unwrap())
+        } else {
+            (&self.skin[j as usize], &self.state.norms[j as usize])
+        }
     }
 
     #[inline]
