@@ -380,6 +380,14 @@ impl MethodWorld {
         self.characters[c].get_mut().expect("no pass panicked")
     }
 
+    /// Character `c`'s root sphere this frame (`None`: an empty tree).
+    fn character_root(&mut self, c: usize) -> Option<Sphere> {
+        self.per_character[c]
+            .get_mut()
+            .expect("no pass panicked")
+            .root
+    }
+
     /// Every character's pipeline behind its lock (for passes run beside
     /// the frame's, such as continuous detection, which read their trees).
     pub fn character_pipelines(&self) -> &[Mutex<Pipeline>] {
@@ -432,19 +440,11 @@ impl MethodWorld {
         self.candidates.clear();
         self.next_round.iter_mut().for_each(|r| *r = 0);
         for i in 0..n {
-            let Some(ri) = self.per_character[i]
-                .get_mut()
-                .expect("no pass panicked")
-                .root
-            else {
+            let Some(ri) = self.character_root(i) else {
                 continue;
             };
             for j in i + 1..n {
-                let Some(rj) = self.per_character[j]
-                    .get_mut()
-                    .expect("no pass panicked")
-                    .root
-                else {
+                let Some(rj) = self.character_root(j) else {
                     continue;
                 };
                 char_tests += 1;
