@@ -220,11 +220,6 @@ impl Pipeline {
     }
 }
 
-/// Two characters of a world against each other, after both pipelines'
-/// [`Pipeline::begin_frame`]: one simultaneous traversal refitting both
-/// trees on demand, then the triangle-triangle test at every overlapping
-/// leaf pair. Fills `pairs` with the colliding `(triangle of a, triangle of
-/// b)` pairs, sorted and distinct; `leaf_pairs` and `workspace` are scratch.
 /// The simultaneous traversal of two characters' trees, refitting both on
 /// demand; returns its counters and the time-stamp ticks spent refitting
 /// (0 unless `TIMED`).
@@ -258,6 +253,11 @@ fn traverse_pair<const TIMED: bool>(
     (stats, ha.ticks + hb.ticks)
 }
 
+/// Two characters of a world against each other, after both pipelines'
+/// [`Pipeline::begin_frame`]: one simultaneous traversal refitting both
+/// trees on demand, then the triangle-triangle test at every overlapping
+/// leaf pair. Fills `pairs` with the colliding `(triangle of a, triangle of
+/// b)` pairs, sorted and distinct; `leaf_pairs` and `workspace` are scratch.
 #[allow(clippy::too_many_arguments)]
 pub fn detect_characters(
     a: &mut Pipeline,

@@ -542,7 +542,7 @@ impl MethodWorld {
             }
         });
 
-        // 3. The outcome, in a fixed order.
+        // 4. The outcome, in a fixed order.
         let out = &mut self.outcome;
         out.total = FrameCounters::default();
         out.by_kind = Default::default();
