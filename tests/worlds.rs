@@ -96,9 +96,16 @@ fn one_thread_and_two_give_the_same_outcome() {
             assert_eq!(x.character_pairs, y.character_pairs);
             for k in PairKind::ALL {
                 let (cx, cy) = (x.by_kind.get(k), y.by_kind.get(k));
+                // Refits and skinned vertices per kind too: a character's own
+                // pass runs before its pairs, whichever thread runs what.
                 assert_eq!(
                     (cx.sphere_sphere, cx.tri_tri, cx.plane_sphere, cx.pairs),
                     (cy.sphere_sphere, cy.tri_tri, cy.plane_sphere, cy.pairs)
+                );
+                assert_eq!(
+                    (cx.refits, cx.skinned_vertices),
+                    (cy.refits, cy.skinned_vertices),
+                    "{k:?}"
                 );
             }
             assert_eq!(x.total.refits, y.total.refits);

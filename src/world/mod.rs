@@ -7,7 +7,7 @@
 //! | [`session`] | [`World`]: builds every method's hierarchies for a scene; [`World::step`] plays a frame |
 //! | [`continuous`] | [`ContinuousWorld`]: continuous detection of every frame step beside a world (swept hierarchies, times of impact) |
 //! | [`continuous_outcome`] | [`ContinuousOutcome`]: pairs touching during a step, with times of impact |
-//! | [`pass_graph`] | [`pass_graph::PassGraph`]: a frame's passes, run on every thread in each character's fixed order, with no barrier between kinds |
+//! | [`pass_graph`] | [`pass_graph::PassGraph`]: a frame's passes, run on every thread, a character's own pass before its pairs, one pass per character at a time, no barrier between kinds |
 //! | [`outcome`] | [`MethodOutcome`]: counters per pair kind and in total, pairs of every kind |
 //! | [`motion`] | [`Motion`]: an object's pose over time (waypoints, hinge, a room door's swing) |
 //! | [`shapes`] | meshes of the generated objects (box, panel, ball, door) |

@@ -5,24 +5,26 @@
 //! Per method and frame:
 //! 1. every character starts its frame (spheres and skinned vertices stale)
 //!    and refits its root sphere;
-//! 2. the broad phase between characters' root spheres orders each
-//!    character's pairs (in rounds of pairs that share no character);
+//! 2. the broad phase between characters' root spheres lists the character
+//!    pairs to traverse;
 //! 3. every pass runs on the pool's threads ([`PassGraph`]): each
 //!    character's pass against the room (exactly the one-character pipeline
 //!    of `pipeline::driver`), the world broad phase against every object's
 //!    root sphere at its pose and the pass against each object it meets;
-//!    then its passes against the characters it meets, in the order of 2
-//!    (each refits and skins both characters on demand). A pass starts as
-//!    soon as its characters' earlier passes are done: no barrier between
-//!    the room passes and the character pairs.
+//!    then its passes against the characters it meets, in any order, one
+//!    at a time (each refits and skins both characters on demand). A pass
+//!    starts as soon as its characters are free: no barrier between the
+//!    room passes and the character pairs.
 //!
 //! Which thread runs what never changes a counter or a pair: a pass's tests
-//! do not depend on which spheres were refit before it, each sphere and
+//! do not depend on which spheres were refit before it, and each sphere and
 //! vertex is refit or skinned at most once a frame whichever pass asks
-//! first, and each character's passes keep one order (the per-kind refit
-//! and skinning counts depend on that order; the totals do not). Pairs are
-//! sorted at the end of the frame.
+//! first. A character's own pass runs before its pairs, so the refits and
+//! skinned vertices counted for the room and objects are the same on any
+//! thread, and those counted for the character pairs add up to the rest.
+//! Pairs are sorted at the end of the frame.
 
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -79,10 +81,8 @@ pub struct MethodWorld {
     characters: Vec<Mutex<Pipeline>>,
     per_character: Vec<Mutex<CharacterScratch>>,
     object_roots: Vec<Option<Sphere>>,
-    /// Character pairs whose roots met this frame, `(i, j)` with `i < j`, and
-    /// their round.
-    candidates: Vec<(u32, u32, u32)>,
-    next_round: Vec<u32>,
+    /// Character pairs whose roots met this frame, `(i, j)` with `i < j`.
+    candidates: Vec<(u32, u32)>,
     pair_scratch: Vec<Mutex<PairScratch>>,
     /// The frame's passes and the order they may run in.
     graph: PassGraph,
@@ -310,9 +310,20 @@ impl World {
         // Inside the pool already (see [`World::in_pool`]): no job to hand
         // over to it.
         if pool.current_thread_index().is_some() {
-            mw.detect(scene, buffers, object_poses);
+            mw.detect(scene, buffers, object_poses, None);
         } else {
-            pool.install(|| mw.detect(scene, buffers, object_poses));
+            // Several characters: their passes may run side by side, on
+            // threads awake from the start (one character is one pass).
+            let go = AtomicBool::new(false);
+            if mw.characters.len() > 1 {
+                pool.install(|| {
+                    with_threads_awake(&go, || {
+                        mw.detect(scene, buffers, object_poses, Some(&go))
+                    })
+                });
+            } else {
+                pool.install(|| mw.detect(scene, buffers, object_poses, None));
+            }
         }
         mw.outcome.total.time.pose_ms = *pose_ms;
     }
@@ -365,7 +376,6 @@ impl MethodWorld {
             per_character: (0..n).map(|_| Mutex::default()).collect(),
             object_roots: vec![None; scene.objects.len()],
             candidates: Vec::new(),
-            next_round: vec![0; n],
             pair_scratch: Vec::new(),
             graph: PassGraph::new(n),
             outcome: MethodOutcome {
@@ -412,7 +422,15 @@ impl MethodWorld {
         room + objects + characters
     }
 
-    fn detect(&mut self, scene: &Resolved, buffers: &[PoseBuffers], poses: &[Isometry3<f32>]) {
+    /// The frame. `helpers_go`, when given, is set as the passes start
+    /// (see [`with_threads_awake`]).
+    fn detect(
+        &mut self,
+        scene: &Resolved,
+        buffers: &[PoseBuffers],
+        poses: &[Isometry3<f32>],
+        helpers_go: Option<&AtomicBool>,
+    ) {
         let t0 = Instant::now();
         // Objects' root spheres in the world.
         for ((root, tree), pose) in self.object_roots.iter_mut().zip(&self.objects).zip(poses) {
@@ -433,12 +451,10 @@ impl MethodWorld {
             s.get_mut().expect("no pass panicked").root = pipe.root_sphere(&buffers[i]);
         }
 
-        // 2. The broad phase between characters' root spheres; a character
-        //    meets its pairs in rounds of pairs that share no character.
+        // 2. The broad phase between characters' root spheres.
         let n = self.characters.len();
         let mut char_tests = 0u64;
         self.candidates.clear();
-        self.next_round.iter_mut().for_each(|r| *r = 0);
         for i in 0..n {
             let Some(ri) = self.character_root(i) else {
                 continue;
@@ -449,15 +465,10 @@ impl MethodWorld {
                 };
                 char_tests += 1;
                 if ri.overlaps(&rj) {
-                    let round = self.next_round[i].max(self.next_round[j]);
-                    self.next_round[i] = round + 1;
-                    self.next_round[j] = round + 1;
-                    self.candidates.push((i as u32, j as u32, round));
+                    self.candidates.push((i as u32, j as u32));
                 }
             }
         }
-        // Candidates by round (stable: by pair within a round).
-        self.candidates.sort_by_key(|&(i, j, r)| (r, i, j));
         while self.pair_scratch.len() < self.candidates.len() {
             self.pair_scratch.push(Mutex::new(PairScratch {
                 a: 0,
@@ -470,15 +481,17 @@ impl MethodWorld {
         }
 
         // 3. Every pass: each character against the room and the objects,
-        //    then against the characters it meets, in that order per
-        //    character; passes of different characters run in parallel.
-        self.graph
-            .set_pairs(self.candidates.iter().map(|&(i, j, _)| (i, j)));
+        //    then against the characters it meets; passes of different
+        //    characters run in parallel.
+        self.graph.set_pairs(self.candidates.iter().copied());
         let objects = &self.objects;
         let object_roots = &self.object_roots;
         let characters = &self.characters;
         let per_character = &self.per_character;
         let pair_scratch = &self.pair_scratch;
+        if let Some(go) = helpers_go {
+            go.store(true, Ordering::Release);
+        }
         self.graph.run(|t, pair| match pair {
             None => {
                 let i = t;
@@ -598,4 +611,58 @@ impl MethodWorld {
         out.total.skinned_vertices = skinned;
         out.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
     }
+}
+
+/// Runs `frame` on the current thread once every other thread of the
+/// current pool is running, each held in a spin until `frame` sets `go`
+/// (when its passes start: they then take the passes' jobs at once).
+///
+/// A frame handed to a pool from outside starts on a thread that has just
+/// woken, and its time starts there; without this, the other threads would
+/// wake during the frame, and on a virtual machine a processor idle for a
+/// few milliseconds takes 1–3 ms to wake (docs/performance.md, "All
+/// cores"), longer than a crowd's frame. One thread's frame does not count
+/// its wake-up either. If a thread has not come within 20 ms (a pool busy
+/// elsewhere), the frame starts without it.
+fn with_threads_awake(go: &AtomicBool, frame: impl FnOnce() + Send) {
+    let others = rayon::current_num_threads().saturating_sub(1);
+    let arrived = AtomicUsize::new(0);
+    // `go` is set however `frame` ends, so no helper spins on after it.
+    struct Release<'a>(&'a AtomicBool);
+    impl Drop for Release<'_> {
+        fn drop(&mut self) {
+            self.0.store(true, Ordering::Release);
+        }
+    }
+    fn hold(n: usize, arrived: &AtomicUsize, go: &AtomicBool, run: impl FnOnce() + Send) {
+        if n == 0 {
+            run();
+            return;
+        }
+        rayon::join(
+            || hold(n - 1, arrived, go, run),
+            || {
+                arrived.fetch_add(1, Ordering::AcqRel);
+                // Yielding now and then, in case it shares a processor
+                // with the frame.
+                let mut spins = 0u32;
+                while !go.load(Ordering::Acquire) {
+                    spins += 1;
+                    if spins % 64 == 0 {
+                        std::thread::yield_now();
+                    } else {
+                        std::hint::spin_loop();
+                    }
+                }
+            },
+        );
+    }
+    hold(others, &arrived, go, || {
+        let _release = Release(go);
+        let deadline = Instant::now() + std::time::Duration::from_millis(20);
+        while arrived.load(Ordering::Acquire) < others && Instant::now() < deadline {
+            std::hint::spin_loop();
+        }
+        frame();
+    });
 }
