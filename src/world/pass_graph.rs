@@ -277,12 +277,20 @@ mod tests {
                     let mine: Vec<_> = log.iter().filter(|e| holds(e.0, c)).collect();
                     for x in &mine {
                         if x.0 != c {
-                            assert!(x.1 >= own.2, "character {c}: pair {} before its own pass on {threads} threads", x.0);
+                            assert!(
+                                x.1 >= own.2,
+                                "character {c}: pair {} before its own pass on {threads} threads",
+                                x.0
+                            );
                         }
                         for y in &mine {
                             if x.0 < y.0 {
                                 let apart = x.2 <= y.1 || y.2 <= x.1;
-                                assert!(apart, "character {c}: passes {} and {} overlap on {threads} threads", x.0, y.0);
+                                assert!(
+                                    apart,
+                                    "character {c}: passes {} and {} overlap on {threads} threads",
+                                    x.0, y.0
+                                );
                             }
                         }
                     }

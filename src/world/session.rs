@@ -317,9 +317,7 @@ impl World {
             let go = AtomicBool::new(false);
             if mw.characters.len() > 1 {
                 pool.install(|| {
-                    with_threads_awake(&go, || {
-                        mw.detect(scene, buffers, object_poses, Some(&go))
-                    })
+                    with_threads_awake(&go, || mw.detect(scene, buffers, object_poses, Some(&go)))
                 });
             } else {
                 pool.install(|| mw.detect(scene, buffers, object_poses, None));
