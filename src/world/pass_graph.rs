@@ -17,7 +17,6 @@
 //! the first frame has sized it.
 
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::Instant;
 
 /// A frame's passes: `characters` passes `0..n` (each character against the
@@ -25,14 +24,8 @@ use std::time::Instant;
 #[derive(Default)]
 pub struct PassGraph {
     characters: usize,
-    /// Last measured seconds of each character's own pass, and of each pair
-    /// `(i, j)` at `i * n + j`.
-    room_cost: Vec<f32>,
-    pair_cost: Vec<f32>,
     /// This frame's pairs, in pass order.
     pairs: Vec<(u32, u32)>,
-    /// Seconds each pass took this frame.
-    seconds: Vec<AtomicU32>,
     /// Who may run what, while running.
     state: Mutex<Schedule>,
 }
@@ -51,6 +44,10 @@ struct Schedule {
     remaining: Vec<f32>,
     /// Passes done.
     done: usize,
+    /// Last measured seconds of each character's own pass and of each pair
+    /// ([`PassGraph::cost_index`]); a pass's entry is updated when it ends,
+    /// and not read again in its frame.
+    costs: Vec<f32>,
 }
 
 impl PassGraph {
@@ -59,16 +56,14 @@ impl PassGraph {
         let most = n + n * n.saturating_sub(1) / 2;
         Self {
             characters: n,
-            room_cost: vec![0.0; n],
-            pair_cost: vec![0.0; n * n],
             pairs: Vec::with_capacity(most - n),
-            seconds: (0..most).map(|_| AtomicU32::new(0)).collect(),
             state: Mutex::new(Schedule {
                 open: Vec::with_capacity(most),
                 busy: vec![false; n],
                 own_done: vec![false; n],
                 remaining: vec![0.0; n],
                 done: 0,
+                costs: vec![0.0; n + n * n],
             }),
         }
     }
@@ -94,10 +89,12 @@ impl PassGraph {
         t.checked_sub(self.characters).map(|k| self.pairs[k])
     }
 
-    fn cost(&self, t: usize) -> f32 {
+    /// Where pass `t`'s last measured cost is kept in `costs` (a pair's
+    /// slot belongs to the two characters, whichever frame lists them).
+    fn cost_index(&self, t: usize) -> usize {
         match self.pair(t) {
-            None => self.room_cost[t],
-            Some((i, j)) => self.pair_cost[i as usize * self.characters + j as usize],
+            None => t,
+            Some((i, j)) => self.characters * (1 + i as usize) + j as usize,
         }
     }
 
@@ -116,33 +113,24 @@ impl PassGraph {
     /// Returns when all are done.
     pub fn run(&mut self, run: impl Fn(usize, Option<(u32, u32)>) + Sync) {
         let total = self.len();
-        {
-            let n = self.characters;
-            let st = self.state.get_mut().expect("no pass panicked");
-            st.open.clear();
-            st.open.extend(0..total as u32);
-            st.busy.iter_mut().for_each(|b| *b = false);
-            st.own_done.iter_mut().for_each(|d| *d = false);
-            st.remaining.clear();
-            st.remaining.extend_from_slice(&self.room_cost[..n]);
-            for &(i, j) in &self.pairs {
-                let c = self.pair_cost[i as usize * n + j as usize];
-                st.remaining[i as usize] += c;
-                st.remaining[j as usize] += c;
-            }
-            st.done = 0;
-        }
-        let this = &*self;
-        let worker = || this.work(total, &run);
-        workers(rayon::current_num_threads().min(total.max(1)), &worker);
-        // Costs for the next frame's choices.
+        let mut st = self.state.lock().expect("no pass panicked");
+        st.open.clear();
+        st.open.extend(0..total as u32);
+        st.busy.iter_mut().for_each(|b| *b = false);
+        st.own_done.iter_mut().for_each(|d| *d = false);
+        st.remaining.iter_mut().for_each(|r| *r = 0.0);
         for t in 0..total {
-            let s = f32::from_bits(self.seconds[t].load(Ordering::Relaxed));
-            match self.pair(t) {
-                None => self.room_cost[t] = s,
-                Some((i, j)) => self.pair_cost[i as usize * self.characters + j as usize] = s,
+            let (i, j) = self.holds(t);
+            let c = st.costs[self.cost_index(t)];
+            st.remaining[i] += c;
+            if j != i {
+                st.remaining[j] += c;
             }
         }
+        st.done = 0;
+        drop(st);
+        let worker = || self.work(total, &run);
+        workers(rayon::current_num_threads().min(total.max(1)), &worker);
     }
 
     fn work(&self, total: usize, run: &(impl Fn(usize, Option<(u32, u32)>) + Sync)) {
@@ -163,9 +151,9 @@ impl PassGraph {
             let t0 = Instant::now();
             run(t, self.pair(t));
             let s = t0.elapsed().as_secs_f32();
-            self.seconds[t].store(s.to_bits(), Ordering::Relaxed);
             let (i, j) = self.holds(t);
             let mut st = self.state.lock().expect("no pass panicked");
+            st.costs[self.cost_index(t)] = s;
             st.busy[i] = false;
             st.busy[j] = false;
             if self.pair(t).is_none() {
@@ -194,7 +182,7 @@ impl PassGraph {
                 continue;
             }
             let chain = st.remaining[i].max(st.remaining[j]);
-            let cost = self.cost(t);
+            let cost = st.costs[self.cost_index(t)];
             let better = match best {
                 None => true,
                 Some((b, bc, bcost)) => {
@@ -311,10 +299,12 @@ mod tests {
         // Listed so that a fixed order per character would put (0, 1) between
         // (0, 2) and (1, 3): pairs (2, 3) and the rest would wait for it.
         let pairs = [(0, 2), (0, 1), (1, 3), (2, 3)];
-        let ms = |t: usize| match g_pair(&pairs, 4, t) {
-            Some((0, 1)) => 200,
-            Some(_) => 60,
-            None => 1,
+        // Passes 0–3 are the characters' own; pass 4 + k is `pairs[k]`, so
+        // pass 5 is the heavy pair (0, 1).
+        let ms = |t: usize| match t {
+            5 => 200,
+            4.. => 60,
+            _ => 1,
         };
         let sleep = |t: usize, _| std::thread::sleep(std::time::Duration::from_millis(ms(t)));
         // The first frame measures the costs the second one's choices use.
@@ -329,10 +319,6 @@ mod tests {
         // side: about 262 ms; a fixed order (0, 2), (0, 1), (1, 3) takes at
         // least 320. The margin is for a loaded machine's late wake-ups.
         assert!(elapsed < 300, "took {elapsed} ms");
-    }
-
-    fn g_pair(pairs: &[(u32, u32)], n: usize, t: usize) -> Option<(u32, u32)> {
-        t.checked_sub(n).map(|k| pairs[k])
     }
 
     /// Two threads overlap a long pair with the other characters' passes

@@ -314,8 +314,8 @@ impl World {
         } else {
             // Several characters: their passes may run side by side, on
             // threads awake from the start (one character is one pass).
-            let go = AtomicBool::new(false);
             if mw.characters.len() > 1 {
+                let go = AtomicBool::new(false);
                 pool.install(|| {
                     with_threads_awake(&go, || mw.detect(scene, buffers, object_poses, Some(&go)))
                 });
@@ -646,7 +646,7 @@ fn with_threads_awake(go: &AtomicBool, frame: impl FnOnce() + Send) {
                 let mut spins = 0u32;
                 while !go.load(Ordering::Acquire) {
                     spins += 1;
-                    if spins % 64 == 0 {
+                    if spins.is_multiple_of(64) {
                         std::thread::yield_now();
                     } else {
                         std::hint::spin_loop();
