@@ -226,6 +226,32 @@ mod tests {
     use super::*;
     use std::sync::Mutex as StdMutex;
 
+    fn pool(threads: usize) -> rayon::ThreadPool {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+    }
+
+    /// Milliseconds the second of two frames over `pairs` takes on two
+    /// threads, pass `t` sleeping `ms(t)` (the first frame measures the
+    /// costs the second one's choices use).
+    fn second_frame_ms<const N: usize>(
+        characters: usize,
+        pairs: [(u32, u32); N],
+        ms: impl Fn(usize) -> u64 + Sync,
+    ) -> u128 {
+        let pool = pool(2);
+        let mut g = PassGraph::new(characters);
+        let sleep = |t: usize, _| std::thread::sleep(std::time::Duration::from_millis(ms(t)));
+        g.set_pairs(pairs);
+        pool.install(|| g.run(sleep));
+        g.set_pairs(pairs);
+        let t0 = Instant::now();
+        pool.install(|| g.run(sleep));
+        t0.elapsed().as_millis()
+    }
+
     /// Every pass runs once; a character's own pass ends before any of its
     /// pairs starts, and no two passes of one character overlap, on one
     /// thread and on several (checked from the start and end times each
@@ -235,10 +261,7 @@ mod tests {
         let n = 6;
         let pairs: Vec<(u32, u32)> = vec![(0, 1), (2, 3), (0, 2), (1, 3), (4, 5), (0, 5), (1, 2)];
         for threads in [1, 2, 4] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
+            let pool = pool(threads);
             let mut g = PassGraph::new(n);
             for _frame in 0..3 {
                 g.set_pairs(pairs.iter().copied());
@@ -291,29 +314,16 @@ mod tests {
     /// a character's pairs are not held behind one another's order.
     #[test]
     fn pairs_of_free_characters_run_beside_a_heavy_pair() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        let mut g = PassGraph::new(4);
         // Listed so that a fixed order per character would put (0, 1) between
         // (0, 2) and (1, 3): pairs (2, 3) and the rest would wait for it.
         let pairs = [(0, 2), (0, 1), (1, 3), (2, 3)];
         // Passes 0–3 are the characters' own; pass 4 + k is `pairs[k]`, so
         // pass 5 is the heavy pair (0, 1).
-        let ms = |t: usize| match t {
+        let elapsed = second_frame_ms(4, pairs, |t| match t {
             5 => 200,
             4.. => 60,
             _ => 1,
-        };
-        let sleep = |t: usize, _| std::thread::sleep(std::time::Duration::from_millis(ms(t)));
-        // The first frame measures the costs the second one's choices use.
-        g.set_pairs(pairs);
-        pool.install(|| g.run(sleep));
-        g.set_pairs(pairs);
-        let t0 = Instant::now();
-        pool.install(|| g.run(sleep));
-        let elapsed = t0.elapsed().as_millis();
+        });
         // Serial: 384 ms. The heavy pair on one thread (200 ms) while the
         // other runs (2, 3) and then waits, then (0, 2) and (1, 3) side by
         // side: about 262 ms; a fixed order (0, 2), (0, 1), (1, 3) takes at
@@ -325,24 +335,11 @@ mod tests {
     /// (no barrier after the characters' own passes).
     #[test]
     fn a_long_pair_runs_beside_other_passes() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        let mut g = PassGraph::new(4);
-        g.set_pairs([(0, 1)]);
-        let ms = |t: usize| match t {
+        let elapsed = second_frame_ms(4, [(0, 1)], |t| match t {
             4 => 200, // the pair
             2 | 3 => 100,
             _ => 1,
-        };
-        let sleep = |t: usize, _| std::thread::sleep(std::time::Duration::from_millis(ms(t)));
-        // The first frame measures the costs the second one's order uses.
-        pool.install(|| g.run(sleep));
-        g.set_pairs([(0, 1)]);
-        let t0 = Instant::now();
-        pool.install(|| g.run(sleep));
-        let elapsed = t0.elapsed().as_millis();
+        });
         // Serial: 402 ms; after a barrier behind the characters' own passes:
         // at least 100 + 200; here about 201 (the margin is for a loaded
         // machine's late wake-ups).
