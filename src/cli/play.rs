@@ -46,7 +46,7 @@ fn run_limits(gib: f64) -> anyhow::Result<RunLimits> {
 
 /// One method's recording: of one character in a room, or of a world.
 enum Recorder {
-    One(RunRecorder),
+    One(Box<RunRecorder>),
     World(WorldRecorder),
 }
 
@@ -366,7 +366,7 @@ pub fn play(args: PlayArgs, target: RecordingTarget) -> anyhow::Result<String> {
                     &first.character,
                     &scene.environment.mesh,
                 )
-                .map(Recorder::One)
+                .map(|r| Recorder::One(Box::new(r)))
             }
             .inspect_err(|_| discard(&created))?;
             recorders.push(Some(r));

@@ -88,15 +88,12 @@ impl Pipeline {
         if self.character_tree.tree.is_empty() {
             return None;
         }
-        if self.refit.is_fresh(NodeId::ROOT) {
-            return Some(self.refit.spheres[0]);
-        }
         let mut r = Refitter {
             tree: &self.character_tree,
             skin: &buffers.skin,
             state: &mut self.refit,
         };
-        Some(r.refit_node(NodeId::ROOT, &buffers.base))
+        Some(r.fresh(NodeId::ROOT, &buffers.base))
     }
 
     /// The pass against a moving object whose hierarchy `object` and mesh

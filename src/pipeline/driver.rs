@@ -144,6 +144,16 @@ impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
             return self.refitter.state.spheres[id.index()];
         }
         let base = self.base;
+        if self.refitter.state.refits_ahead_on() {
+            // Refit ahead, or not yet refit: `fresh` tells them apart.
+            if !TIMED {
+                return self.refitter.fresh(id, &base);
+            }
+            let t0 = ticks();
+            let s = self.refitter.fresh(id, &base);
+            self.ticks += ticks().wrapping_sub(t0);
+            return s;
+        }
         if !TIMED {
             return self.refitter.refit_node(id, &base);
         }
@@ -208,7 +218,8 @@ impl Pipeline {
     ) -> Self {
         let character_tree =
             CharacterTree::build(character, dedup, options.skinning, options.build);
-        let refit = RefitState::new(&character_tree, character.skeleton.len());
+        let mut refit = RefitState::new(&character_tree, character.skeleton.len());
+        refit.set_refit_ahead(method.refits_ahead());
         let group_marks = PassMarks::new(character_tree.tree.len());
         Self {
             method,
@@ -232,6 +243,14 @@ impl Pipeline {
     /// Bytes of both sphere hierarchies (the "Data" row of Tables 2–3).
     pub fn hierarchy_bytes(&self) -> usize {
         self.character_tree.tree.bytes() + self.environment.bytes()
+    }
+
+    /// Whether frames start by refitting the character nodes asked for in
+    /// the frame before ([`crate::sphere_tree::refit_ahead`]); on by default
+    /// for the methods whose [`Method::refits_ahead`] says so. Spheres and
+    /// pairs are the same either way; only refit counts differ.
+    pub fn set_refit_ahead(&mut self, on: bool) {
+        self.refit.set_refit_ahead(on);
     }
 
     /// This frame's refit spheres of the character (valid where refit).
@@ -272,6 +291,15 @@ impl Pipeline {
         env: &TriMesh,
     ) -> FrameCounters {
         let mut c = FrameCounters::default();
+        // Last frame's nodes first (nothing unless the method refits ahead).
+        let t0 = Instant::now();
+        Refitter {
+            tree: &self.character_tree,
+            skin: &buffers.skin,
+            state: &mut self.refit,
+        }
+        .refit_ahead(&buffers.base);
+        let ahead_ms = t0.elapsed().as_secs_f64() * 1e3;
         let t0 = Instant::now();
         let tick0 = ticks();
         let (stats, guard_tests, refit_ticks) = match (self.time_refit, self.visits.take()) {
@@ -294,6 +322,11 @@ impl Pipeline {
             c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
         }
         c.time.traversal_ms = elapsed - c.time.refit_ms;
+        if self.time_refit {
+            c.time.refit_ms += ahead_ms;
+        } else {
+            c.time.traversal_ms += ahead_ms;
+        }
         c.sphere_sphere = stats.sphere_tests;
         c.plane_sphere = guard_tests;
         c.refits = self.refit.refits;

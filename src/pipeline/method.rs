@@ -138,6 +138,14 @@ impl Method {
         self == Method::PrunedTriTri
     }
 
+    /// Whether the character nodes asked for last frame are refit at the
+    /// frame's start, before traversal ([`crate::sphere_tree::refit_ahead`]);
+    /// the paper's methods refit on demand only, so their refit counts
+    /// stay those of §3.
+    pub fn refits_ahead(self) -> bool {
+        self == Method::PrunedTriTri
+    }
+
     /// The name used on the command line, in files and in reports.
     pub fn name(self) -> &'static str {
         match self {

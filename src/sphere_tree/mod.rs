@@ -7,6 +7,7 @@
 //! | [`character`] | the character's tree: one tree per joint under root and extremity spheres |
 //! | [`containment`] | distinct vertices per node; checking refit spheres hold them |
 //! | [`refit`] | on-demand refit from per-joint weight ranges (§3 sphere update) |
+//! | [`refit_ahead`] | last frame's asked-for nodes refit in one loop before traversal |
 //! | [`validate`] | the public validator tests call after every step |
 //! | [`swept`] | swept spheres of the character tree over a frame step, refit at both ends on demand (continuous detection) |
 //! | [`swept_rigid`] | swept spheres of a rigid body's tree over a step (its chord and its rotation) |
@@ -28,6 +29,7 @@ pub mod grouped;
 pub mod node;
 pub mod pass_marks;
 pub mod refit;
+pub mod refit_ahead;
 pub mod swept;
 pub mod swept_rigid;
 pub mod traverse;

@@ -71,6 +71,8 @@
 //!
 //! On demand: a node is refit the first time a traversal asks for it in a frame
 //! (a frame stamp per node). [`Refitter::refit_all`] refits everything.
+//! Ahead (opt-in, [`RefitState::set_refit_ahead`]): the nodes asked for last
+//! frame are refit first, in one loop (see [`super::refit_ahead`]).
 
 use nalgebra::{Matrix3, Matrix4, Vector3};
 
@@ -538,10 +540,27 @@ impl JointNorms {
 /// Per-frame refit results and bookkeeping; reused across frames.
 #[derive(Clone, Debug)]
 pub struct RefitState {
-    /// This frame's spheres (valid where `stamp == frame`).
+    /// This frame's spheres (valid where `stamp == frame`, or
+    /// `frame | AHEAD`).
     pub spheres: Vec<Sphere>,
-    stamp: Vec<u32>,
-    frame: u32,
+    /// Per node: `frame` once asked for this frame; `frame | AHEAD` if refit
+    /// ahead and not asked for yet; anything else: stale.
+    pub(super) stamp: Vec<u32>,
+    /// Below [`AHEAD`].
+    pub(super) frame: u32,
+    /// What a refit writes in `stamp`: `frame`, or `frame | AHEAD` while
+    /// refitting ahead.
+    pub(super) writes: u32,
+    /// Whether the nodes asked for are logged (refit ahead on).
+    pub(super) ahead: bool,
+    /// Nodes asked for this frame, each once (when `ahead`).
+    pub(super) asked: Vec<u32>,
+    /// Nodes asked for last frame (when `ahead`).
+    pub(super) asked_before: Vec<u32>,
+    /// Nodes refit ahead this frame (counted in `refits` too).
+    pub refits_ahead: u64,
+    /// Of those, the ones asked for since.
+    ahead_used: u64,
     /// Norms of each joint's skin matrix; the last entry is the base frame's.
     norms: Vec<JointNorms>,
     /// Nodes refit this frame.
@@ -558,6 +577,12 @@ impl RefitState {
             spheres: tree.tree.nodes().iter().map(|n| n.sphere).collect(),
             stamp: vec![0; tree.tree.len()],
             frame: 0,
+            writes: 0,
+            ahead: false,
+            asked: Vec::new(),
+            asked_before: Vec::new(),
+            refits_ahead: 0,
+            ahead_used: 0,
             norms: vec![JointNorms::IDENTITY; joints + 1],
             refits: 0,
             slot_points: vec![V64::zeros(); tree.refit.max_slots.max(1)],
@@ -573,22 +598,93 @@ impl RefitState {
     /// [`RefitState::begin_frame`] with an explicit base frame (a placed
     /// character's base is `placement · base`).
     pub fn begin_frame_with_base(&mut self, skin: &[Matrix4<f32>], base: &Matrix4<f32>) {
-        self.frame = self.frame.wrapping_add(1).max(1);
-        if self.frame == 1 {
+        self.frame = (self.frame + 1) % AHEAD;
+        if self.frame == 0 {
+            // Wrapped (after 2³¹ frames): no stamp may look fresh.
+            self.frame = 1;
             self.stamp.fill(0);
+            self.asked.clear();
         }
+        self.writes = self.frame;
         self.refits = 0;
+        self.refits_ahead = 0;
+        self.ahead_used = 0;
+        if self.ahead {
+            std::mem::swap(&mut self.asked, &mut self.asked_before);
+            self.asked.clear();
+        }
         for (n, m) in self.norms.iter_mut().zip(skin) {
             *n = JointNorms::of(m);
         }
         *self.norms.last_mut().unwrap() = JointNorms::of(base);
     }
 
-    /// Whether node `id` has been refit this frame.
+    /// Whether node `id`'s sphere has been asked for (and so refit) this
+    /// frame. A node refit ahead and not asked for is not fresh.
     pub fn is_fresh(&self, id: NodeId) -> bool {
         self.stamp[id.index()] == self.frame
     }
+
+    /// Whether the next frames refit ahead the nodes asked for in the frame
+    /// before ([`Refitter::refit_ahead`]). Sizes the logs once (no
+    /// allocation per frame); off by default.
+    pub fn set_refit_ahead(&mut self, on: bool) {
+        self.ahead = on;
+        self.asked.clear();
+        self.asked_before.clear();
+        if on {
+            self.asked.reserve_exact(self.stamp.len());
+            self.asked_before.reserve_exact(self.stamp.len());
+        }
+    }
+
+    /// Whether refit ahead is on.
+    pub fn refits_ahead_on(&self) -> bool {
+        self.ahead
+    }
+
+    /// Nodes refit ahead this frame and not asked for (so far): work lost,
+    /// counted in `refits` but not [fresh](Self::is_fresh).
+    pub fn refits_ahead_unused(&self) -> u64 {
+        self.refits_ahead - self.ahead_used
+    }
+
+    /// Node `id`'s sphere if it is valid this frame, marked asked for (a
+    /// node refit ahead becomes fresh and is logged), and whether it was
+    /// refit ahead and is asked for now.
+    #[inline]
+    pub(super) fn take(&mut self, id: NodeId) -> Option<(Sphere, bool)> {
+        let i = id.index();
+        let s = self.stamp[i];
+        if s == self.frame {
+            return Some((self.spheres[i], false));
+        }
+        if s == self.frame | AHEAD {
+            let now = self.writes == self.frame;
+            if now {
+                self.stamp[i] = self.frame;
+                self.ahead_used += 1;
+                self.log_asked(i);
+            }
+            return Some((self.spheres[i], now));
+        }
+        None
+    }
+
+    /// Logs node `i` as asked for this frame (once: the caller has just
+    /// made its stamp `frame`).
+    #[inline]
+    fn log_asked(&mut self, i: usize) {
+        // Never grows: each node is logged at most once a frame (when its
+        // stamp becomes `frame`), and the log has room for every node.
+        if self.ahead && self.asked.len() < self.asked.capacity() {
+            self.asked.push(i as u32);
+        }
+    }
 }
+
+/// The bit of a stamp saying "refit ahead, not asked for yet".
+pub(super) const AHEAD: u32 = 1 << 31;
 
 /// Largest singular value of the linear part `A`, rounded up a little: the
 /// square root of the largest eigenvalue of `B = AᵀA`.
@@ -764,8 +860,11 @@ impl Refitter<'_> {
         let slot = &mut self.state.spheres[id.index()];
         slot.center = center;
         slot.radius = radius;
-        self.state.stamp[id.index()] = self.state.frame;
+        let was = std::mem::replace(&mut self.state.stamp[id.index()], self.state.writes);
         self.state.refits += 1;
+        if self.state.writes == self.state.frame && was != self.state.frame {
+            self.state.log_asked(id.index());
+        }
         Sphere::new(center, radius)
     }
 
@@ -791,12 +890,23 @@ impl Refitter<'_> {
         }
     }
 
+    /// Node `id`'s sphere this frame: as refit already, or refit now.
     #[inline]
-    fn fresh(&mut self, id: NodeId, base: &Matrix4<f32>) -> Sphere {
-        if self.state.is_fresh(id) {
-            self.state.spheres[id.index()]
-        } else {
-            self.refit_node(id, base)
+    pub fn fresh(&mut self, id: NodeId, base: &Matrix4<f32>) -> Sphere {
+        match self.state.take(id) {
+            Some((s, false)) => s,
+            Some((s, true)) => {
+                // Refit ahead and asked for now: the children its rule
+                // read are asked for too, as refitting it on demand would
+                // have refit them (the same nodes fresh either way).
+                if matches!(self.tree.refit.rules[id.index()], Rule::FromChildren) {
+                    for c in self.tree.tree.node(id).children() {
+                        self.fresh(NodeId(c), base);
+                    }
+                }
+                s
+            }
+            None => self.refit_node(id, base),
         }
     }
 
