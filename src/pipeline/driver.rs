@@ -143,22 +143,13 @@ impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
         if self.refitter.state.is_fresh(id) {
             return self.refitter.state.spheres[id.index()];
         }
+        // Refit ahead (then only marked asked for), or refit now.
         let base = self.base;
-        if self.refitter.state.refits_ahead_on() {
-            // Refit ahead, or not yet refit: `fresh` tells them apart.
-            if !TIMED {
-                return self.refitter.fresh(id, &base);
-            }
-            let t0 = ticks();
-            let s = self.refitter.fresh(id, &base);
-            self.ticks += ticks().wrapping_sub(t0);
-            return s;
-        }
         if !TIMED {
-            return self.refitter.refit_node(id, &base);
+            return self.refitter.fresh(id, &base);
         }
         let t0 = ticks();
-        let s = self.refitter.refit_node(id, &base);
+        let s = self.refitter.fresh(id, &base);
         self.ticks += ticks().wrapping_sub(t0);
         s
     }
@@ -243,14 +234,6 @@ impl Pipeline {
     /// Bytes of both sphere hierarchies (the "Data" row of Tables 2–3).
     pub fn hierarchy_bytes(&self) -> usize {
         self.character_tree.tree.bytes() + self.environment.bytes()
-    }
-
-    /// Whether frames start by refitting the character nodes asked for in
-    /// the frame before ([`crate::sphere_tree::refit_ahead`]); on by default
-    /// for the methods whose [`Method::refits_ahead`] says so. Spheres and
-    /// pairs are the same either way; only refit counts differ.
-    pub fn set_refit_ahead(&mut self, on: bool) {
-        self.refit.set_refit_ahead(on);
     }
 
     /// This frame's refit spheres of the character (valid where refit).
