@@ -274,15 +274,20 @@ impl Pipeline {
         env: &TriMesh,
     ) -> FrameCounters {
         let mut c = FrameCounters::default();
-        // Last frame's nodes first (nothing unless the method refits ahead).
-        let t0 = Instant::now();
-        Refitter {
-            tree: &self.character_tree,
-            skin: &buffers.skin,
-            state: &mut self.refit,
-        }
-        .refit_ahead(&buffers.base);
-        let ahead_ms = t0.elapsed().as_secs_f64() * 1e3;
+        // Last frame's nodes first, when the method refits ahead (timed
+        // only then: two clock reads the other methods need not pay).
+        let ahead_ms = if self.refit.refits_ahead_on() {
+            let t0 = Instant::now();
+            Refitter {
+                tree: &self.character_tree,
+                skin: &buffers.skin,
+                state: &mut self.refit,
+            }
+            .refit_ahead(&buffers.base);
+            t0.elapsed().as_secs_f64() * 1e3
+        } else {
+            0.0
+        };
         let t0 = Instant::now();
         let tick0 = ticks();
         let (stats, guard_tests, refit_ticks) = match (self.time_refit, self.visits.take()) {
@@ -302,13 +307,11 @@ impl Pipeline {
         let elapsed = t0.elapsed().as_secs_f64() * 1e3;
         if self.time_refit {
             let total_ticks = ticks().wrapping_sub(tick0).max(1);
-            c.time.refit_ms = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
-        }
-        c.time.traversal_ms = elapsed - c.time.refit_ms;
-        if self.time_refit {
-            c.time.refit_ms += ahead_ms;
+            let on_demand = elapsed * (refit_ticks as f64 / total_ticks as f64).min(1.0);
+            c.time.refit_ms = on_demand + ahead_ms;
+            c.time.traversal_ms = elapsed - on_demand;
         } else {
-            c.time.traversal_ms += ahead_ms;
+            c.time.traversal_ms = elapsed + ahead_ms;
         }
         c.sphere_sphere = stats.sphere_tests;
         c.plane_sphere = guard_tests;
