@@ -126,27 +126,24 @@ pub fn measure(
     let mut skin_ms = vec![Vec::with_capacity(frames); n];
     let (mut ops, mut skinned, mut pairs) = (vec![0u64; n], vec![0u64; n], vec![0u64; n]);
     let mut differ = vec![0usize; n];
-    // The baseline's frame, timed (posing excluded: it is added below).
-    let parry_frame =
-        |world: &mut World, parry: &mut ParryWorld| -> Result<(f64, f64), BenchError> {
-            let t0 = Instant::now();
-            world.skin_all();
-            let skin_all = t0.elapsed().as_secs_f64() * 1e3;
-            parry.update(&world.buffers, &world.object_poses)?;
-            parry.detect();
-            Ok((t0.elapsed().as_secs_f64() * 1e3, skin_all))
-        };
+    // The baseline's frame on the current pose, its time (posing `pose`
+    // included) and its skinning time recorded.
+    let mut parry_frame = |world: &mut World, parry: &mut ParryWorld, pose: f64| {
+        let t0 = Instant::now();
+        world.skin_all();
+        skin_all_ms.push(t0.elapsed().as_secs_f64() * 1e3);
+        parry.update(&world.buffers, &world.object_poses)?;
+        parry.detect();
+        parry_ms.push(pose + t0.elapsed().as_secs_f64() * 1e3);
+        Ok::<(), BenchError>(())
+    };
     for k in 0..frames {
         world.pose(k);
         let pose = world.pose_ms;
         pose_ms.push(pose);
-        let mut parry_runs = 0;
         for i in 0..n {
             for one_thread in [k % 2 == 0, k % 2 != 0] {
-                let (ms, skin_all) = parry_frame(&mut world, &mut parry)?;
-                parry_ms.push(pose + ms);
-                skin_all_ms.push(skin_all);
-                parry_runs += 1;
+                parry_frame(&mut world, &mut parry, pose)?;
                 if one_thread {
                     world.detect_method_on_one_thread(i);
                 } else {
@@ -169,10 +166,9 @@ pub fn measure(
                 differ[i] += 1;
             }
         }
-        if parry_runs == 0 {
-            let (ms, skin_all) = parry_frame(&mut world, &mut parry)?;
-            parry_ms.push(pose + ms);
-            skin_all_ms.push(skin_all);
+        // No method: the baseline still runs once a frame.
+        if n == 0 {
+            parry_frame(&mut world, &mut parry, pose)?;
         }
         // The same candidates on every run of a frame: counted once.
         parry_candidates += parry.candidates;
