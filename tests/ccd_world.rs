@@ -27,7 +27,7 @@ use cornertree::world::{CharacterPair, ContinuousWorld, ObjectPair, RoomPair, Wo
 const SMALL_WORLD: &str = r#"
 fps = 30
 frames = 10
-methods = ["original", "sphere-division", "pruned-tri-tri"]
+methods = ["original", "sphere-division", "pruned-tri-tri", "undivided-pruned-tri-tri"]
 dedup = false
 
 [environment]
@@ -227,7 +227,8 @@ fn exact_methods_find_exactly_the_brute_force_pairs() {
         [
             Method::Original,
             Method::SphereDivision,
-            Method::PrunedTriTri
+            Method::PrunedTriTri,
+            Method::UndividedPrunedTriTri
         ]
     );
 }

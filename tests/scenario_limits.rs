@@ -249,7 +249,7 @@ fn world_numbers_out_of_range_name_their_field() {
 /// big is allocated.
 #[test]
 fn sizes_past_the_budget_are_refused_before_they_are_built() {
-    // A 20,000,000-vertex room with seven methods' hierarchies.
+    // A 20,000,000-vertex room with every method's hierarchy.
     let text = BASE.replace("{GAP}", "0.01").replace(
         "kind = \"living-room\"",
         "kind = \"living-room\"\nvertices = 20000000",
@@ -257,11 +257,12 @@ fn sizes_past_the_budget_are_refused_before_they_are_built() {
     let start = Instant::now();
     let (path, e) = refused("big_room.toml", &text);
     let v = 20_000_000usize;
-    let bytes = cost::ROOM_PER_VERTEX * v + budget::static_mesh_bytes(2 * v, 7, 1).unwrap();
+    let methods = cornertree::pipeline::Method::ALL.len();
+    let bytes = cost::ROOM_PER_VERTEX * v + budget::static_mesh_bytes(2 * v, methods, 1).unwrap();
     assert_eq!(
         e,
         format!(
-            "{}: environment.vertices: a living room of 20000000 vertices with 7 methods' hierarchies needs about {}, over the run's memory budget of 4.0 GiB (RunLimits::max_bytes, --memory-budget)",
+            "{}: environment.vertices: a living room of 20000000 vertices with {methods} methods' hierarchies needs about {}, over the run's memory budget of 4.0 GiB (RunLimits::max_bytes, --memory-budget)",
             path.display(),
             budget::show_bytes(bytes)
         )

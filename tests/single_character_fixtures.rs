@@ -40,7 +40,11 @@ fn check(name: &str) {
     let mut checked = 0;
     while let Some(k) = world.step() {
         for m in &mut world.methods {
-            let want = &expected[m.method.name()][k];
+            // A method added after the fixtures were written has none of
+            // its own: it must find `original`'s pairs (every exact method
+            // does), whatever its work.
+            let own = expected.get(m.method.name());
+            let want = &own.unwrap_or(&expected["original"])[k];
             let c = m.outcome.total;
             let pairs = m.pipeline(0).pairs.clone();
             let got = [
@@ -53,7 +57,7 @@ fn check(name: &str) {
                 format!("{:016x}", fnv(&pairs)),
             ];
             let mut want = want[2..9].to_vec();
-            if m.method.tests_each_pair_once() {
+            if own.is_none() || m.method.tests_each_pair_once() {
                 // Since the fixtures were written, this method descends each
                 // character sphere once per big triangle and tests each
                 // (triangle, big triangle) pair once: its work changed, its
@@ -66,7 +70,7 @@ fn check(name: &str) {
                 "{name}, {} frame {k}: ss tt ps refits skinned pairs hash",
                 m.method
             );
-            checked += 1;
+            checked += usize::from(own.is_some());
         }
     }
     assert_eq!(checked, expected.values().map(Vec::len).sum::<usize>());

@@ -83,7 +83,12 @@ fn touching_scenario_has_contacts_and_exact_methods_find_them_all() {
         2 * with_contact > frames,
         "contacts in most frames: {with_contact} of {frames}"
     );
-    for method in ["original", "sphere-division", "pruned-tri-tri"] {
+    for method in [
+        "original",
+        "sphere-division",
+        "pruned-tri-tri",
+        "undivided-pruned-tri-tri",
+    ] {
         for f in run_of(&report, method)["frames"].as_array().unwrap() {
             let a = &f["accuracy"]["pairs"];
             assert_eq!(a["fn"], 0, "{method} frame {}: no pair missed", f["frame"]);

@@ -20,7 +20,11 @@ fn root() -> &'static Path {
 fn exact_on_every_frame(name: &str, kind: PairKind) {
     let mut r = open_scenario(&root().join(format!("scenarios/{name}.toml"))).unwrap();
     r.dedup = false;
-    r.methods = vec![Method::SphereDivision, Method::PrunedTriTri];
+    r.methods = vec![
+        Method::SphereDivision,
+        Method::PrunedTriTri,
+        Method::UndividedPrunedTriTri,
+    ];
     let mut world = World::new(r, 0).unwrap();
     let mut truth = WorldTruth::new(&world.scene).unwrap();
     let mut with_contact = 0;

@@ -7,6 +7,10 @@
 //! - [`DivisionKind::Corner`]: only sub-triangles with an edge on the original
 //!   triangle's boundary split again; the central piece of every split is a
 //!   leaf (Fig. 3). Level n holds 1, 4, 12, 36, 84, … spheres (Table 1).
+//! - [`DivisionKind::Whole`] (ours): nothing splits; the division is one
+//!   leaf, the whole triangle's sphere. With the plane and edge-plane guard
+//!   of `undivided-pruned-tri-tri` it keeps the guard without the
+//!   corner-tree's nodes (docs/results.md).
 //!
 //! Every node's sphere is the minimal sphere of its sub-triangle, grown by a few
 //! `f32` ulps of the triangle's extent so that midpoint rounding can never leave
@@ -28,6 +32,8 @@ pub enum DivisionKind {
     Full,
     /// Only those with an edge on the original boundary (corner-tree).
     Corner,
+    /// None (ours): one leaf, the whole triangle.
+    Whole,
 }
 
 /// Default cap on levels, so a tiny threshold cannot exhaust memory
@@ -82,7 +88,11 @@ impl Division {
             let mut sphere = triangle_sphere(&piece.triangle);
             sphere.radius += slack;
             let wants = piece.triangle.longest_edge() > threshold
-                && (kind == DivisionKind::Full || piece.touches_boundary());
+                && match kind {
+                    DivisionKind::Full => true,
+                    DivisionKind::Corner => piece.touches_boundary(),
+                    DivisionKind::Whole => false,
+                };
             if wants && level[i] >= max_levels {
                 capped = true;
             }
@@ -202,6 +212,7 @@ pub fn division_nodes(
         edge *= 0.5;
     }
     match kind {
+        DivisionKind::Whole => 1,
         DivisionKind::Full => (0..levels).map(|l| 4u64.pow(l as u32)).sum(),
         DivisionKind::Corner => {
             // Splitting pieces per level: the root, then `a + b`.
@@ -252,7 +263,11 @@ mod tests {
 
     #[test]
     fn divisions_validate() {
-        for kind in [DivisionKind::Full, DivisionKind::Corner] {
+        for kind in [
+            DivisionKind::Full,
+            DivisionKind::Corner,
+            DivisionKind::Whole,
+        ] {
             let d = Division::build(&t(), TriangleId(7), kind, 0.3, MAX_LEVELS);
             d.validate().unwrap();
             assert!(!d.capped);
@@ -262,9 +277,14 @@ mod tests {
                     .zip(d.tree.nodes())
                     .all(|(p, n)| !n.is_leaf()
                         || p.triangle.longest_edge() <= 0.3
-                        || kind == DivisionKind::Corner)
+                        || kind != DivisionKind::Full)
             );
         }
+        // A whole division is one leaf, the triangle, however big.
+        let d = Division::build(&t(), TriangleId(7), DivisionKind::Whole, 1e-6, MAX_LEVELS);
+        assert_eq!(d.tree.len(), 1);
+        assert_eq!(d.tree.node(NodeId::ROOT).primitive(), Some(7));
+        assert!(!d.capped);
         // A small triangle stays one leaf.
         let d = Division::build(&t(), TriangleId(0), DivisionKind::Full, 100.0, MAX_LEVELS);
         assert_eq!(d.tree.len(), 1);
@@ -293,7 +313,11 @@ mod tests {
             }
             let threshold = rng.random_range(0.01..2.0f32);
             let levels = rng.random_range(1..=8);
-            for kind in [DivisionKind::Full, DivisionKind::Corner] {
+            for kind in [
+                DivisionKind::Full,
+                DivisionKind::Corner,
+                DivisionKind::Whole,
+            ] {
                 let built = Division::build(&t, TriangleId(0), kind, threshold, levels)
                     .tree
                     .len() as u64;

@@ -70,6 +70,14 @@ pub enum Method {
     /// (triangle, big triangle) pair is tested once
     /// ([`Method::tests_each_pair_once`]).
     PrunedTriTri,
+    /// Ours: `pruned-tri-tri` with big triangles left whole
+    /// ([`DivisionKind::Whole`]): a big triangle is one leaf, and a character
+    /// sphere reaching it is descended within the triangle's plane and edge
+    /// planes, as `pruned-tri-tri` descends it against a corner-tree's root.
+    /// Those planes, not the corner-tree's spheres, are what prunes there, so
+    /// the corner-tree's nodes were tests that decided nothing (measured in
+    /// docs/performance.md); the pairs are `original`'s.
+    UndividedPrunedTriTri,
 }
 
 /// The exact test run where a character leaf meets an environment leaf.
@@ -83,7 +91,7 @@ pub enum LeafTest {
 }
 
 impl Method {
-    pub const ALL: [Method; 7] = [
+    pub const ALL: [Method; 8] = [
         Method::Original,
         Method::SphereDivision,
         Method::PlaneSphere,
@@ -91,6 +99,7 @@ impl Method {
         Method::PlaneSpherePruned,
         Method::QuaternaryPlaneSpherePruned,
         Method::PrunedTriTri,
+        Method::UndividedPrunedTriTri,
     ];
 
     /// The hierarchy built inside big triangles, if any.
@@ -103,6 +112,7 @@ impl Method {
             Method::PlaneSphere | Method::PlaneSpherePruned | Method::PrunedTriTri => {
                 Some(DivisionKind::Corner)
             }
+            Method::UndividedPrunedTriTri => Some(DivisionKind::Whole),
         }
     }
 
@@ -110,7 +120,10 @@ impl Method {
     /// triangles always run the triangle-triangle test.
     pub fn big_leaf_test(self) -> LeafTest {
         match self {
-            Method::Original | Method::SphereDivision | Method::PrunedTriTri => LeafTest::TriTri,
+            Method::Original
+            | Method::SphereDivision
+            | Method::PrunedTriTri
+            | Method::UndividedPrunedTriTri => LeafTest::TriTri,
             Method::PlaneSphere
             | Method::QuaternaryPlaneSphere
             | Method::PlaneSpherePruned
@@ -123,7 +136,10 @@ impl Method {
     pub fn prunes_at_plane(self) -> bool {
         matches!(
             self,
-            Method::PlaneSpherePruned | Method::QuaternaryPlaneSpherePruned | Method::PrunedTriTri
+            Method::PlaneSpherePruned
+                | Method::QuaternaryPlaneSpherePruned
+                | Method::PrunedTriTri
+                | Method::UndividedPrunedTriTri
         )
     }
 
@@ -135,7 +151,7 @@ impl Method {
     /// ([`crate::sphere_tree::PassMarks`]); the paper's methods descend and test every
     /// leaf pair.
     pub fn tests_each_pair_once(self) -> bool {
-        self == Method::PrunedTriTri
+        matches!(self, Method::PrunedTriTri | Method::UndividedPrunedTriTri)
     }
 
     /// Whether the character nodes asked for last frame are refit at the
@@ -143,7 +159,7 @@ impl Method {
     /// the paper's methods refit on demand only, so their refit counts
     /// stay those of §3.
     pub fn refits_ahead(self) -> bool {
-        self == Method::PrunedTriTri
+        matches!(self, Method::PrunedTriTri | Method::UndividedPrunedTriTri)
     }
 
     /// The name used on the command line, in files and in reports.
@@ -156,6 +172,7 @@ impl Method {
             Method::PlaneSpherePruned => "plane-sphere-pruned",
             Method::QuaternaryPlaneSpherePruned => "quaternary-plane-sphere-pruned",
             Method::PrunedTriTri => "pruned-tri-tri",
+            Method::UndividedPrunedTriTri => "undivided-pruned-tri-tri",
         }
     }
 }
