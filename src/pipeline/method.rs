@@ -74,9 +74,9 @@ pub enum Method {
     /// ([`DivisionKind::Whole`]): a big triangle is one leaf, and a character
     /// sphere reaching it is descended within the triangle's plane and edge
     /// planes, as `pruned-tri-tri` descends it against a corner-tree's root.
-    /// Those planes, not the corner-tree's spheres, are what prunes there, so
-    /// the corner-tree's nodes were tests that decided nothing (measured in
-    /// docs/performance.md); the pairs are `original`'s.
+    /// Those planes, not the corner-tree's spheres, decide which character
+    /// spheres go on, so without the corner-tree the same pairs (`original`'s)
+    /// cost fewer tests (docs/performance.md, "Big triangles left whole").
     UndividedPrunedTriTri,
 }
 
