@@ -1,11 +1,13 @@
 //! Refit containment on real and generated characters: every frame of every
-//! clip at 30 fps, both skinning models, tolerance 1e-5 of the model size.
+//! clip at 30 fps, both skinning models, both refit rules, tolerance 1e-5 of
+//! the model size.
 
 use std::path::Path;
 
 use cornertree::character::{Character, HumanoidParams, SkinningModel, generate_humanoid};
 use cornertree::io::load_character;
 use cornertree::report::animate::{AnimateOptions, animate};
+use cornertree::sphere_tree::refit::RefitRule;
 
 fn asset(name: &str) -> Character {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -17,9 +19,13 @@ fn asset(name: &str) -> Character {
 fn check_all_clips(c: &Character) {
     assert!(!c.clips.is_empty(), "{}: no clips", c.name);
     for clip in &c.clips {
-        for model in [SkinningModel::Paper, SkinningModel::Linear] {
+        for (model, refit_rule) in [SkinningModel::Paper, SkinningModel::Linear]
+            .into_iter()
+            .flat_map(|m| [RefitRule::PaperCorners, RefitRule::JointBalls].map(|r| (m, r)))
+        {
             let opts = AnimateOptions {
                 model,
+                refit_rule,
                 clip: Some(clip.name.clone()),
                 fps: 30.0,
                 sample_every: usize::MAX,
@@ -35,12 +41,19 @@ fn check_all_clips(c: &Character) {
             assert!(r.checks > 0);
             assert_eq!(
                 r.violations, 0,
-                "{} clip {:?} {:?}: worst excess {} (tolerance {})",
-                c.name, clip.name, model, r.worst_excess, r.tolerance
+                "{} clip {:?} {:?} {:?}: worst excess {} (tolerance {})",
+                c.name, clip.name, model, refit_rule, r.worst_excess, r.tolerance
             );
             eprintln!(
-                "{} {:?} {:?}: {} frames, {} checks, 0 violations, worst excess {:.2e}, tightness mean {:.3}",
-                c.name, clip.name, model, r.frames, r.checks, r.worst_excess, r.tightness_mean
+                "{} {:?} {:?} {:?}: {} frames, {} checks, 0 violations, worst excess {:.2e}, tightness mean {:.3}",
+                c.name,
+                clip.name,
+                model,
+                refit_rule,
+                r.frames,
+                r.checks,
+                r.worst_excess,
+                r.tightness_mean
             );
         }
     }

@@ -11,7 +11,7 @@ use cornertree::mesh::dedup_edges;
 use cornertree::sphere_tree::BuildParams;
 use cornertree::sphere_tree::character::CharacterTree;
 use cornertree::sphere_tree::containment::VertexSets;
-use cornertree::sphere_tree::refit::{RefitState, Refitter};
+use cornertree::sphere_tree::refit::{RefitRule, RefitState, Refitter};
 
 const JOINT_NAMES: [&str; 22] = [
     "pelvis",
@@ -309,13 +309,17 @@ fn clips_move_the_character_plausibly() {
 }
 
 /// Poses `clip` at `fps` over its duration (or only its middle frame) and
-/// returns `(violations, checks)` over both skinning models.
+/// returns `(violations, checks)` over both skinning models and both refit
+/// rules.
 fn containment(c: &Character, fps: f32, only_middle: bool) -> (u64, u64) {
     let dedup = dedup_edges(&c.mesh);
     let tol = 1e-5 * c.mesh.size() as f64;
     let (mut violations, mut checks) = (0, 0);
-    for model in [SkinningModel::Paper, SkinningModel::Linear] {
-        let ct = CharacterTree::build(c, &dedup, model, BuildParams::default());
+    for (model, rule) in [SkinningModel::Paper, SkinningModel::Linear]
+        .into_iter()
+        .flat_map(|m| [RefitRule::PaperCorners, RefitRule::JointBalls].map(|r| (m, r)))
+    {
+        let ct = CharacterTree::build_with_rule(c, &dedup, model, BuildParams::default(), rule);
         let sets = VertexSets::new(&ct.tree, &c.mesh);
         let mut state = RefitState::new(&ct, c.skeleton.len());
         let mut b = PoseBuffers::new(c);
@@ -341,7 +345,7 @@ fn containment(c: &Character, fps: f32, only_middle: bool) -> (u64, u64) {
                 let r = sets.check(&state.spheres, &b.positions, tol);
                 assert_eq!(
                     r.violations, 0,
-                    "{model:?} {} t={t}: worst excess {}",
+                    "{model:?} {rule:?} {} t={t}: worst excess {}",
                     clip.name, r.worst_excess
                 );
                 violations += r.violations;

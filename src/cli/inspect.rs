@@ -9,6 +9,7 @@ use cornertree::mesh::TriMesh;
 use cornertree::report::animate::{AnimateOptions, RefitReport, animate};
 use cornertree::report::inspect::{InspectOptions, inspect_mesh};
 use cornertree::sphere_tree::BuildParams;
+use cornertree::sphere_tree::refit::RefitRule;
 
 use super::args::{parse_offset, parse_positive};
 use super::emit;
@@ -43,6 +44,16 @@ pub struct InspectArgs {
     /// Skinning model: glTF linear blend skinning, or the paper's one-joint model.
     #[arg(long, value_enum, default_value = "linear", requires = "animate")]
     pub skinning: SkinningModel,
+    /// How spheres are refit: the paper's corner rule (§3), or joint balls
+    /// (ours: a ball per joint over the vertices it moves, moved by that
+    /// joint; what pruned-tri-tri and undivided-pruned-tri-tri use).
+    #[arg(
+        long,
+        value_enum,
+        default_value = "paper-corners",
+        requires = "animate"
+    )]
+    pub refit_rule: RefitRule,
     /// Measure tightness (a minimal sphere per node) and the cost of a rebuild
     /// from scratch on every N-th frame; 0 picks about ten frames over the clip.
     #[arg(long, default_value_t = 0, requires = "animate")]
@@ -129,6 +140,7 @@ pub fn inspect(args: InspectArgs) -> anyhow::Result<()> {
     if let Some(character) = &character {
         let opts = AnimateOptions {
             model: args.skinning,
+            refit_rule: args.refit_rule,
             clip: args.clip.clone(),
             fps: args.fps,
             dedup: options.dedup,
@@ -170,8 +182,8 @@ fn refit_text(c: &Character, r: &RefitReport) -> String {
     let _ = writeln!(s, "  clips                  {}", clips.join(", "));
     let _ = writeln!(
         s,
-        "  refit: clip {:?}, {:?} skinning, {} frames at {} fps, {} nodes",
-        r.clip, r.model, r.frames, r.fps, r.nodes
+        "  refit: clip {:?}, {:?} skinning, {:?} rule, {} frames at {} fps, {} nodes",
+        r.clip, r.model, r.refit_rule, r.frames, r.fps, r.nodes
     );
     let [x, y, z] = r.offset;
     let _ = writeln!(

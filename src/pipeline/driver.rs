@@ -207,8 +207,13 @@ impl Pipeline {
         options: PipelineOptions,
         dedup: &EdgeDedup,
     ) -> Self {
-        let character_tree =
-            CharacterTree::build(character, dedup, options.skinning, options.build);
+        let character_tree = CharacterTree::build_with_rule(
+            character,
+            dedup,
+            options.skinning,
+            options.build,
+            method.refit_rule(),
+        );
         let mut refit = RefitState::new(&character_tree, character.skeleton.len());
         refit.set_refit_ahead(method.refits_ahead());
         let group_marks = PassMarks::new(character_tree.tree.len());

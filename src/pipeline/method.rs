@@ -9,6 +9,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::big_triangle::DivisionKind;
+use crate::sphere_tree::refit::RefitRule;
 
 /// How the environment's big triangles are handled.
 #[derive(
@@ -160,6 +161,19 @@ impl Method {
     /// stay those of §3.
     pub fn refits_ahead(self) -> bool {
         matches!(self, Method::PrunedTriTri | Method::UndividedPrunedTriTri)
+    }
+
+    /// How the character nodes whose vertices follow several joints are
+    /// refit: the paper's corner rule (§3) for the paper's methods, so that
+    /// their spheres and counts stay §3's; joint balls
+    /// ([`RefitRule::JointBalls`]: a ball per joint, moved by that joint) for
+    /// ours, whose spheres hug a bent limb (docs/performance.md, "Joint
+    /// balls").
+    pub fn refit_rule(self) -> RefitRule {
+        match self {
+            Method::PrunedTriTri | Method::UndividedPrunedTriTri => RefitRule::JointBalls,
+            _ => RefitRule::PaperCorners,
+        }
     }
 
     /// The name used on the command line, in files and in reports.

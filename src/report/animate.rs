@@ -33,13 +33,15 @@ use crate::io::limits::MAX_COORDINATE;
 use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::containment::VertexSets;
-use crate::sphere_tree::refit::{OnDemand, RefitState, Refitter};
+use crate::sphere_tree::refit::{OnDemand, RefitRule, RefitState, Refitter};
 use crate::sphere_tree::{BuildParams, SphereTree, Workspace, build_tree, traverse};
 
 /// Settings of an animated inspection.
 #[derive(Clone, Debug)]
 pub struct AnimateOptions {
     pub model: SkinningModel,
+    /// How the tree's spheres are refit.
+    pub refit_rule: RefitRule,
     /// Clip name; the first clip when `None`.
     pub clip: Option<String>,
     pub fps: f32,
@@ -85,6 +87,7 @@ impl Default for AnimateOptions {
     fn default() -> Self {
         Self {
             model: SkinningModel::Linear,
+            refit_rule: RefitRule::PaperCorners,
             clip: None,
             fps: 30.0,
             dedup: true,
@@ -102,6 +105,7 @@ impl Default for AnimateOptions {
 pub struct RefitReport {
     pub clip: String,
     pub model: SkinningModel,
+    pub refit_rule: RefitRule,
     pub frames: usize,
     pub fps: f32,
     pub nodes: usize,
@@ -154,7 +158,13 @@ pub fn animate(
     } else {
         EdgeDedup::keep_all(&character.mesh)
     };
-    let ct = CharacterTree::build(character, &dedup, options.model, options.build);
+    let ct = CharacterTree::build_with_rule(
+        character,
+        &dedup,
+        options.model,
+        options.build,
+        options.refit_rule,
+    );
     let sets = VertexSets::new(&ct.tree, &character.mesh);
     let size = character.mesh.size() as f64;
     let tolerance = options.tolerance_rel * size;
@@ -180,6 +190,7 @@ pub fn animate(
     let mut r = RefitReport {
         clip: clip.name.clone(),
         model: options.model,
+        refit_rule: options.refit_rule,
         frames,
         fps: options.fps,
         nodes: ct.tree.len(),

@@ -24,7 +24,7 @@ use crate::mesh::{EdgeDedup, TriangleId};
 
 use super::build::{BuildParams, build_tree};
 use super::node::{NodeId, SphereTree};
-use super::refit::RefitData;
+use super::refit::{RefitData, RefitRule};
 
 /// Share of triangles a child subtree needs for its parent to be a major branch.
 pub const MAJOR_SHARE: f64 = 0.05;
@@ -52,13 +52,25 @@ pub struct CharacterTree {
 }
 
 impl CharacterTree {
-    /// Builds the tree over the triangles `dedup` keeps, with refit rules for
-    /// `model`.
+    /// Builds the tree over the triangles `dedup` keeps, with the paper's
+    /// refit rules for `model`.
     pub fn build(
         character: &Character,
         dedup: &EdgeDedup,
         model: SkinningModel,
         params: BuildParams,
+    ) -> Self {
+        Self::build_with_rule(character, dedup, model, params, RefitRule::PaperCorners)
+    }
+
+    /// [`CharacterTree::build`] with `rule` refitting the nodes whose
+    /// vertices follow several joints.
+    pub fn build_with_rule(
+        character: &Character,
+        dedup: &EdgeDedup,
+        model: SkinningModel,
+        params: BuildParams,
+        rule: RefitRule,
     ) -> Self {
         let mesh = &character.mesh;
         let skeleton = &character.skeleton;
@@ -113,7 +125,7 @@ impl CharacterTree {
             .collect();
 
         let (tree, origin) = assemble(character, &joint_trees, &per_joint, &groups);
-        let refit = RefitData::new(character, model, &tree, &origin, &joint_trees);
+        let refit = RefitData::new(character, model, &tree, &origin, &joint_trees, rule);
         Self {
             tree,
             refit,
