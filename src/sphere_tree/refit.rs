@@ -699,6 +699,9 @@ pub struct RefitState {
     ahead_used: u64,
     /// Norms of each joint's skin matrix; the last entry is the base frame's.
     norms: Vec<JointNorms>,
+    /// Each joint's skin matrix `[A t]` in `f64`, row after row (the last:
+    /// the base frame's), taken once a frame for [`Rule::JointBalls`].
+    mats: Vec<[f64; 12]>,
     /// Nodes refit this frame.
     pub refits: u64,
     /// Slot points `M_j·c` of the node being refit.
@@ -720,6 +723,7 @@ impl RefitState {
             refits_ahead: 0,
             ahead_used: 0,
             norms: vec![JointNorms::IDENTITY; joints + 1],
+            mats: vec![IDENTITY_ROWS; joints + 1],
             refits: 0,
             slot_points: vec![V64::zeros(); tree.refit.max_slots.max(1)],
             corner_points: vec![V64::zeros(); tree.refit.max_corners.max(1)],
@@ -753,6 +757,12 @@ impl RefitState {
             *n = JointNorms::of(m);
         }
         *self.norms.last_mut().unwrap() = JointNorms::of(base);
+        for (r, m) in self.mats.iter_mut().zip(skin.iter().chain([base])) {
+            *r = rows_f64(m);
+        }
+        // Fewer skin matrices than joints (not expected): the base's stays
+        // last.
+        *self.mats.last_mut().unwrap() = rows_f64(base);
     }
 
     /// Whether node `id`'s sphere has been asked for (and so refit) this
@@ -863,6 +873,25 @@ fn apply_f64(m: &Matrix4<f32>, c: &V64) -> V64 {
         e(0, 0) * c.x + e(0, 1) * c.y + e(0, 2) * c.z + e(0, 3),
         e(1, 0) * c.x + e(1, 1) * c.y + e(1, 2) * c.z + e(1, 3),
         e(2, 0) * c.x + e(2, 1) * c.y + e(2, 2) * c.z + e(2, 3),
+    )
+}
+
+/// The identity's rows `[A t]`.
+const IDENTITY_ROWS: [f64; 12] = [1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+/// The first three rows of `m` in `f64` (exact).
+fn rows_f64(m: &Matrix4<f32>) -> [f64; 12] {
+    std::array::from_fn(|i| m[(i / 4, i % 4)] as f64)
+}
+
+/// [`apply_f64`] on rows taken by [`rows_f64`]: the same operations, the
+/// same result.
+#[inline]
+fn apply_rows(e: &[f64; 12], c: &V64) -> V64 {
+    V64::new(
+        e[0] * c.x + e[1] * c.y + e[2] * c.z + e[3],
+        e[4] * c.x + e[5] * c.y + e[6] * c.z + e[7],
+        e[8] * c.x + e[9] * c.y + e[10] * c.z + e[11],
     )
 }
 
@@ -995,8 +1024,8 @@ impl Refitter<'_> {
                 let balls = &data.balls[start as usize..end as usize];
                 if let [b] = balls {
                     // One joint moves every vertex: its ball, moved.
-                    let (m, n) = self.slot(b.joint, base);
-                    let q = apply_f64(m, &widen(&b.center));
+                    let (m, n) = self.slot_rows(b.joint);
+                    let q = apply_rows(m, &widen(&b.center));
                     let center = Point::new(q.x as f32, q.y as f32, q.z as f32);
                     let hold =
                         (q - widen(&center)).norm_squared().sqrt() + b.radius as f64 * n.stretch;
@@ -1009,8 +1038,8 @@ impl Refitter<'_> {
                     let mut largest = JointNorms::ZERO;
                     let (mut lo, mut hi) = (V64::repeat(f64::MAX), V64::repeat(f64::MIN));
                     for (i, b) in balls.iter().enumerate() {
-                        let (m, n) = self.slot(b.joint, base);
-                        let (q, n) = (apply_f64(m, &widen(&b.center)), *n);
+                        let (m, n) = self.slot_rows(b.joint);
+                        let (q, n) = (apply_rows(m, &widen(&b.center)), *n);
                         let r = b.radius as f64 * n.stretch;
                         lo = lo.inf(&q.add_scalar(-r));
                         hi = hi.sup(&q.add_scalar(r));
@@ -1022,7 +1051,7 @@ impl Refitter<'_> {
                     let cw = widen(&center);
                     let mut hold = 0.0f64;
                     for (b, q) in balls.iter().zip(&self.state.slot_points) {
-                        let (_, n) = self.slot(b.joint, base);
+                        let (_, n) = self.slot_rows(b.joint);
                         let r = b.radius as f64 * n.stretch;
                         hold = hold.max((q - cw).norm_squared().sqrt() + r);
                     }
@@ -1065,6 +1094,18 @@ impl Refitter<'_> {
         } else {
             (&self.skin[j as usize], &self.state.norms[j as usize])
         }
+    }
+
+    /// Slot joint `j`'s matrix rows in `f64` and norms (`BASE`: the base
+    /// frame's).
+    #[inline]
+    fn slot_rows(&self, j: u16) -> (&[f64; 12], &JointNorms) {
+        let i = if j == BASE {
+            self.state.norms.len() - 1
+        } else {
+            j as usize
+        };
+        (&self.state.mats[i], &self.state.norms[i])
     }
 
     /// Node `id`'s sphere this frame: as refit already, or refit now.
