@@ -1164,11 +1164,45 @@ mod tests {
 
     use super::{RefitRule, RefitState, Refitter, stretch};
     use crate::character::humanoid::{HumanoidParams, generate_humanoid};
-    use crate::character::{PoseBuffers, SkinningModel};
+    use crate::character::{Character, PoseBuffers, SkinningModel};
+    use crate::geometry::Sphere;
     use crate::mesh::EdgeDedup;
     use crate::sphere_tree::BuildParams;
     use crate::sphere_tree::character::CharacterTree;
     use crate::sphere_tree::containment::VertexSets;
+
+    /// Poses `c`'s first clip at `at` (a fraction of its duration) with
+    /// joints stretched apart from their parents, so that a parent's norms
+    /// left out of `σ`, `α` or `τ` show, placed 1.2 km from the origin.
+    fn pose_stretched_far_away(c: &Character, b: &mut PoseBuffers, at: f32) {
+        let clip = &c.clips[0];
+        clip.sample(
+            clip.start() + clip.duration() * at,
+            c.skeleton.rest_pose_ref(),
+            &mut b.local,
+        );
+        for (j, l) in b.local.iter_mut().enumerate() {
+            let f = 1.0 + 0.05 * (j % 5) as f32;
+            l.scale = Vector3::new(f, 1.0 / f, 1.0 + 0.1 * (j % 3) as f32);
+        }
+        b.pose_local(c);
+        b.place(&Matrix4::new_translation(&Vector3::new(
+            1234.5, -20.25, 3.0,
+        )));
+    }
+
+    /// Every sphere of `tree` refit to `b`'s pose.
+    fn every_sphere(tree: &CharacterTree, c: &Character, b: &PoseBuffers) -> Vec<Sphere> {
+        let mut state = RefitState::new(tree, c.skeleton.len());
+        state.begin_frame_with_base(&b.skin, &b.base);
+        Refitter {
+            tree,
+            skin: &b.skin,
+            state: &mut state,
+        }
+        .refit_all(&b.base);
+        state.spheres
+    }
 
     /// `Rule::Rigid` gives the very spheres of the general rule it stands
     /// for, bit for bit, on a walking humanoid placed far from the origin
@@ -1195,33 +1229,14 @@ mod tests {
             );
             let mut general = ct.clone();
             general.refit = ct.refit.without_rigid();
-            let clip = &c.clips[0];
             let mut b = PoseBuffers::new(&c);
             for step in 0..6 {
-                let t = clip.start() + clip.duration() * step as f32 / 6.0;
-                clip.sample(t, c.skeleton.rest_pose_ref(), &mut b.local);
-                // Joints stretched apart from their parents, so that a
-                // parent's norms left out of `σ`, `α` or `τ` show.
-                for (j, l) in b.local.iter_mut().enumerate() {
-                    let f = 1.0 + 0.05 * (j % 5) as f32;
-                    l.scale = Vector3::new(f, 1.0 / f, 1.0 + 0.1 * (j % 3) as f32);
-                }
-                b.pose_local(&c);
-                b.place(&Matrix4::new_translation(&Vector3::new(
-                    1234.5, -20.25, 3.0,
-                )));
-                let spheres = |tree: &CharacterTree| {
-                    let mut state = RefitState::new(tree, c.skeleton.len());
-                    state.begin_frame_with_base(&b.skin, &b.base);
-                    Refitter {
-                        tree,
-                        skin: &b.skin,
-                        state: &mut state,
-                    }
-                    .refit_all(&b.base);
-                    state.spheres
-                };
-                assert_eq!(spheres(&ct), spheres(&general), "{model:?} step {step}");
+                pose_stretched_far_away(&c, &mut b, step as f32 / 6.0);
+                assert_eq!(
+                    every_sphere(&ct, &c, &b),
+                    every_sphere(&general, &c, &b),
+                    "{model:?} step {step}"
+                );
             }
         }
     }
@@ -1251,32 +1266,11 @@ mod tests {
             let balls = build(RefitRule::JointBalls);
             let corners = build(RefitRule::PaperCorners);
             let sets = VertexSets::new(&balls.tree, &c.mesh);
-            let clip = &c.clips[0];
             let mut b = PoseBuffers::new(&c);
             for step in 0..8 {
-                let t = clip.start() + clip.duration() * step as f32 / 8.0;
-                clip.sample(t, c.skeleton.rest_pose_ref(), &mut b.local);
-                for (j, l) in b.local.iter_mut().enumerate() {
-                    let f = 1.0 + 0.05 * (j % 5) as f32;
-                    l.scale = Vector3::new(f, 1.0 / f, 1.0 + 0.1 * (j % 3) as f32);
-                }
-                b.pose_local(&c);
-                b.place(&Matrix4::new_translation(&Vector3::new(
-                    1234.5, -20.25, 3.0,
-                )));
+                pose_stretched_far_away(&c, &mut b, step as f32 / 8.0);
                 b.skin_all(&c, model);
-                let spheres = |tree: &CharacterTree| {
-                    let mut state = RefitState::new(tree, c.skeleton.len());
-                    state.begin_frame_with_base(&b.skin, &b.base);
-                    Refitter {
-                        tree,
-                        skin: &b.skin,
-                        state: &mut state,
-                    }
-                    .refit_all(&b.base);
-                    state.spheres
-                };
-                let (sb, sc) = (spheres(&balls), spheres(&corners));
+                let (sb, sc) = (every_sphere(&balls, &c, &b), every_sphere(&corners, &c, &b));
                 let held = sets.check(&sb, &b.positions, 0.0);
                 assert!(held.checks > 0);
                 assert_eq!(
@@ -1285,8 +1279,7 @@ mod tests {
                     held.worst_excess
                 );
                 assert!(sb[0].radius < sc[0].radius, "{model:?} step {step}: root");
-                let sum =
-                    |s: &[crate::geometry::Sphere]| s.iter().map(|x| x.radius as f64).sum::<f64>();
+                let sum = |s: &[Sphere]| s.iter().map(|x| x.radius as f64).sum::<f64>();
                 assert!(sum(&sb) < sum(&sc), "{model:?} step {step}: radii");
             }
         }
