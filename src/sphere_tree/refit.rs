@@ -246,7 +246,19 @@ enum Rule {
     /// [`RefitRule::JointBalls`]: the node's balls are
     /// `balls[start..end]`; `reach` as for [`Rule::Corners`].
     JointBalls { start: u32, end: u32, reach: f32 },
+    /// [`Rule::JointBalls`] with one ball, kept in the rule itself (one
+    /// cache line fewer to fetch: about two thirds of a humanoid's nodes).
+    OneBall {
+        center: Point,
+        radius: f32,
+        joint: u16,
+        reach: f32,
+    },
 }
+
+// A rule stays 24 bytes, so a node's rule shares its cache line with the
+// next nodes'.
+const _: () = assert!(std::mem::size_of::<Rule>() == 24);
 
 /// How a character tree's spheres are refit to a pose.
 #[derive(
@@ -553,6 +565,16 @@ impl RefitData {
         }
         let end = self.balls.len();
         self.max_slots = self.max_slots.max(end - start);
+        if end - start == 1 {
+            let b = self.balls.pop().expect("one ball");
+            self.rules.push(Rule::OneBall {
+                center: b.center,
+                radius: b.radius,
+                joint: b.joint,
+                reach,
+            });
+            return;
+        }
         self.rules.push(Rule::JointBalls {
             start: start as u32,
             end: end as u32,
@@ -1022,43 +1044,48 @@ impl Refitter<'_> {
             Rule::JointBalls { start, end, reach } => {
                 let data = &self.tree.refit;
                 let balls = &data.balls[start as usize..end as usize];
-                if let [b] = balls {
-                    // One joint moves every vertex: its ball, moved.
+                // Each ball moved by its joint: centre `M_j·c_j`, radius
+                // `σ_j·r_j`; the sphere's centre is the middle of their box.
+                let mut largest = JointNorms::ZERO;
+                let (mut lo, mut hi) = (V64::repeat(f64::MAX), V64::repeat(f64::MIN));
+                for (i, b) in balls.iter().enumerate() {
                     let (m, n) = self.slot_rows(b.joint);
-                    let q = apply_rows(m, &widen(&b.center));
-                    let center = Point::new(q.x as f32, q.y as f32, q.z as f32);
-                    let hold =
-                        (q - widen(&center)).norm_squared().sqrt() + b.radius as f64 * n.stretch;
-                    let rho = n.frobenius * reach as f64 + n.translation;
-                    let radius = hold * (1.0 + data.weight_sum_error) + data.rounding * rho;
-                    (center, radius_up(radius * (1.0 + F64_SLACK)))
-                } else {
-                    // Each ball moved by its joint: centre `M_j·c_j`, radius
-                    // `σ_j·r_j`; the sphere's centre is the middle of their box.
-                    let mut largest = JointNorms::ZERO;
-                    let (mut lo, mut hi) = (V64::repeat(f64::MAX), V64::repeat(f64::MIN));
-                    for (i, b) in balls.iter().enumerate() {
-                        let (m, n) = self.slot_rows(b.joint);
-                        let (q, n) = (apply_rows(m, &widen(&b.center)), *n);
-                        let r = b.radius as f64 * n.stretch;
-                        lo = lo.inf(&q.add_scalar(-r));
-                        hi = hi.sup(&q.add_scalar(r));
-                        self.state.slot_points[i] = q;
-                        largest = largest.max(&n);
-                    }
-                    let mid = (lo + hi) * 0.5;
-                    let center = Point::new(mid.x as f32, mid.y as f32, mid.z as f32);
-                    let cw = widen(&center);
-                    let mut hold = 0.0f64;
-                    for (b, q) in balls.iter().zip(&self.state.slot_points) {
-                        let (_, n) = self.slot_rows(b.joint);
-                        let r = b.radius as f64 * n.stretch;
-                        hold = hold.max((q - cw).norm_squared().sqrt() + r);
-                    }
-                    let rho = largest.frobenius * reach as f64 + largest.translation;
-                    let radius = hold * (1.0 + data.weight_sum_error) + data.rounding * rho;
-                    (center, radius_up(radius * (1.0 + F64_SLACK)))
+                    let (q, n) = (apply_rows(m, &widen(&b.center)), *n);
+                    let r = b.radius as f64 * n.stretch;
+                    lo = lo.inf(&q.add_scalar(-r));
+                    hi = hi.sup(&q.add_scalar(r));
+                    self.state.slot_points[i] = q;
+                    largest = largest.max(&n);
                 }
+                let mid = (lo + hi) * 0.5;
+                let center = Point::new(mid.x as f32, mid.y as f32, mid.z as f32);
+                let cw = widen(&center);
+                let mut hold = 0.0f64;
+                for (b, q) in balls.iter().zip(&self.state.slot_points) {
+                    let (_, n) = self.slot_rows(b.joint);
+                    let r = b.radius as f64 * n.stretch;
+                    hold = hold.max((q - cw).norm_squared().sqrt() + r);
+                }
+                let rho = largest.frobenius * reach as f64 + largest.translation;
+                let radius = hold * (1.0 + data.weight_sum_error) + data.rounding * rho;
+                (center, radius_up(radius * (1.0 + F64_SLACK)))
+            }
+            Rule::OneBall {
+                center: rest_center,
+                radius: rest_radius,
+                joint,
+                reach,
+            } => {
+                // One joint moves every vertex: its ball, moved.
+                let data = &self.tree.refit;
+                let (m, n) = self.slot_rows(joint);
+                let q = apply_rows(m, &widen(&rest_center));
+                let center = Point::new(q.x as f32, q.y as f32, q.z as f32);
+                let hold =
+                    (q - widen(&center)).norm_squared().sqrt() + rest_radius as f64 * n.stretch;
+                let rho = n.frobenius * reach as f64 + n.translation;
+                let radius = hold * (1.0 + data.weight_sum_error) + data.rounding * rho;
+                (center, radius_up(radius * (1.0 + F64_SLACK)))
             }
         };
         // Field by field: a whole-sphere copy from a temporary stalled on
