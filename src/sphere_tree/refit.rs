@@ -779,11 +779,9 @@ impl RefitState {
             *n = JointNorms::of(m);
         }
         *self.norms.last_mut().unwrap() = JointNorms::of(base);
-        for (r, m) in self.mats.iter_mut().zip(skin.iter().chain([base])) {
+        for (r, m) in self.mats.iter_mut().zip(skin) {
             *r = rows_f64(m);
         }
-        // Fewer skin matrices than joints (not expected): the base's stays
-        // last.
         *self.mats.last_mut().unwrap() = rows_f64(base);
     }
 
@@ -943,6 +941,23 @@ fn corner_sphere(
     (center, radius_up(radius * (1.0 + F64_SLACK)))
 }
 
+/// A joint-ball rule's sphere (module doc, "Joint balls") about `center`:
+/// `hold` is the largest `f64` distance from it to a moved ball's far side,
+/// `largest` holds the balls' joints' largest `α` and `τ`, and the radius
+/// adds the rounding margin `κ·ρ`.
+#[inline]
+fn ball_sphere(
+    data: &RefitData,
+    center: Point,
+    hold: f64,
+    largest: &JointNorms,
+    reach: f32,
+) -> (Point, f32) {
+    let rho = largest.frobenius * reach as f64 + largest.translation;
+    let radius = hold * (1.0 + data.weight_sum_error) + data.rounding * rho;
+    (center, radius_up(radius * (1.0 + F64_SLACK)))
+}
+
 /// A character tree posed for one frame: answers traversal's sphere requests,
 /// refitting on first request.
 pub struct Refitter<'a> {
@@ -1066,9 +1081,7 @@ impl Refitter<'_> {
                     let r = b.radius as f64 * n.stretch;
                     hold = hold.max((q - cw).norm_squared().sqrt() + r);
                 }
-                let rho = largest.frobenius * reach as f64 + largest.translation;
-                let radius = hold * (1.0 + data.weight_sum_error) + data.rounding * rho;
-                (center, radius_up(radius * (1.0 + F64_SLACK)))
+                ball_sphere(data, center, hold, &largest, reach)
             }
             Rule::OneBall {
                 center: rest_center,
@@ -1083,9 +1096,7 @@ impl Refitter<'_> {
                 let center = Point::new(q.x as f32, q.y as f32, q.z as f32);
                 let hold =
                     (q - widen(&center)).norm_squared().sqrt() + rest_radius as f64 * n.stretch;
-                let rho = n.frobenius * reach as f64 + n.translation;
-                let radius = hold * (1.0 + data.weight_sum_error) + data.rounding * rho;
-                (center, radius_up(radius * (1.0 + F64_SLACK)))
+                ball_sphere(data, center, hold, n, reach)
             }
         };
         // Field by field: a whole-sphere copy from a temporary stalled on
