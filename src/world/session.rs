@@ -44,6 +44,7 @@ use crate::sphere_tree::{NodeId, Workspace};
 
 use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
 use super::pass_graph::PassGraph;
+use super::pinning::pinned_pool;
 
 /// A world being played.
 pub struct World {
@@ -114,11 +115,7 @@ impl World {
     /// Builds every method's hierarchies for the scene, on `threads` threads
     /// (0: one per core).
     pub fn new(scene: Resolved, threads: usize) -> Result<Self, rayon::ThreadPoolBuildError> {
-        let pool = Arc::new(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()?,
-        );
+        let pool = Arc::new(pinned_pool(threads)?);
         let threads = pool.current_num_threads();
         let serial = rayon::ThreadPoolBuilder::new().num_threads(1).build()?;
         let dedups: Vec<EdgeDedup> = scene
@@ -189,11 +186,7 @@ impl World {
 
     /// Runs later frames on `threads` threads (0: one per core).
     pub fn set_threads(&mut self, threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
-        self.pool = Arc::new(
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()?,
-        );
+        self.pool = Arc::new(pinned_pool(threads)?);
         self.threads = self.pool.current_num_threads();
         Ok(())
     }
@@ -621,7 +614,9 @@ impl MethodWorld {
 /// few milliseconds takes 1–3 ms to wake (docs/performance.md, "All
 /// cores"), longer than a crowd's frame. One thread's frame does not count
 /// its wake-up either. If a thread has not come within 20 ms (a pool busy
-/// elsewhere), the frame starts without it.
+/// elsewhere), the frame starts without it. Arriving is not enough: a
+/// thread woken onto the frame's own processor waits there until the frame
+/// ends, so the pool's threads are pinned apart ([`super::pinning`]).
 fn with_threads_awake(go: &AtomicBool, frame: impl FnOnce() + Send) {
     let others = rayon::current_num_threads().saturating_sub(1);
     let arrived = AtomicUsize::new(0);
