@@ -130,7 +130,14 @@ impl PassGraph {
         st.done = 0;
         drop(st);
         let worker = || self.work(total, &run);
-        workers(rayon::current_num_threads().min(total.max(1)), &worker);
+        // One pass needs no pool (nor asks for rayon's global one when
+        // called outside a pool).
+        let threads = if total <= 1 {
+            1
+        } else {
+            rayon::current_num_threads().min(total)
+        };
+        workers(threads, &worker);
     }
 
     fn work(&self, total: usize, run: &(impl Fn(usize, Option<(u32, u32)>) + Sync)) {
