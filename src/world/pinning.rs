@@ -5,8 +5,8 @@
 //! often queues a woken thread on the processor of the thread that woke it,
 //! and there it waited behind the frame: in 28–38 of a crowd's 60 two-thread
 //! frames the second thread ran no pass, although the other processor was
-//! idle. With each pool thread pinned to its own processor that never
-//! happened in four runs (docs/performance.md, "Pinned pool threads").
+//! idle. With each pool thread pinned to its own processor it happened in
+//! none of two runs' 120 frames (docs/performance.md, "Pinned pool threads").
 //!
 //! Pinning applies to pools of at least two threads and at most as many
 //! threads as the process may use processors; otherwise the threads are
