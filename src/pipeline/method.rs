@@ -163,12 +163,11 @@ impl Method {
         matches!(self, Method::PrunedTriTri | Method::UndividedPrunedTriTri)
     }
 
-    /// How the character nodes whose vertices follow several joints are
-    /// refit: the paper's corner rule (§3) for the paper's methods, so that
-    /// their spheres and counts stay §3's; joint balls
-    /// ([`RefitRule::JointBalls`]: a ball per joint, moved by that joint) for
-    /// ours, whose spheres hug a bent limb (docs/performance.md, "Joint
-    /// balls").
+    /// How the character's spheres are refit: the paper's corner rule (§3)
+    /// for the paper's methods, so that their spheres and counts stay §3's;
+    /// joint balls ([`RefitRule::JointBalls`]: a ball per joint, moved by
+    /// that joint) for ours, whose spheres hug a bent limb
+    /// (docs/performance.md, "Joint balls").
     pub fn refit_rule(self) -> RefitRule {
         match self {
             Method::PrunedTriTri | Method::UndividedPrunedTriTri => RefitRule::JointBalls,

@@ -63,8 +63,8 @@ impl CharacterTree {
         Self::build_with_rule(character, dedup, model, params, RefitRule::PaperCorners)
     }
 
-    /// [`CharacterTree::build`] with `rule` refitting the nodes whose
-    /// vertices follow several joints.
+    /// [`CharacterTree::build`] with `rule` refitting the nodes (joint
+    /// balls: every node, root and extremities included).
     pub fn build_with_rule(
         character: &Character,
         dedup: &EdgeDedup,

@@ -422,6 +422,14 @@ impl RefitData {
         self.rounding
     }
 
+    /// Whether any node is refit by joint balls (which read each joint's
+    /// matrix rows in `f64`, [`RefitState`]'s `mats`).
+    fn moves_joint_balls(&self) -> bool {
+        self.rules
+            .iter()
+            .any(|r| matches!(r, Rule::JointBalls { .. } | Rule::OneBall { .. }))
+    }
+
     /// Nodes refit by [`Rule::Rigid`].
     #[cfg(test)]
     fn rigid_count(&self) -> usize {
@@ -745,7 +753,12 @@ impl RefitState {
             refits_ahead: 0,
             ahead_used: 0,
             norms: vec![JointNorms::IDENTITY; joints + 1],
-            mats: vec![IDENTITY_ROWS; joints + 1],
+            // Only joint-ball rules read the rows.
+            mats: if tree.refit.moves_joint_balls() {
+                vec![IDENTITY_ROWS; joints + 1]
+            } else {
+                Vec::new()
+            },
             refits: 0,
             slot_points: vec![V64::zeros(); tree.refit.max_slots.max(1)],
             corner_points: vec![V64::zeros(); tree.refit.max_corners.max(1)],
@@ -779,10 +792,12 @@ impl RefitState {
             *n = JointNorms::of(m);
         }
         *self.norms.last_mut().unwrap() = JointNorms::of(base);
-        for (r, m) in self.mats.iter_mut().zip(skin) {
-            *r = rows_f64(m);
+        if let Some((last, joints)) = self.mats.split_last_mut() {
+            for (r, m) in joints.iter_mut().zip(skin) {
+                *r = rows_f64(m);
+            }
+            *last = rows_f64(base);
         }
-        *self.mats.last_mut().unwrap() = rows_f64(base);
     }
 
     /// Whether node `id`'s sphere has been asked for (and so refit) this
