@@ -31,6 +31,7 @@ pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod pipeline;
+pub mod prefetch;
 pub mod record;
 pub mod report;
 pub mod scenario;

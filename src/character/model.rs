@@ -165,6 +165,17 @@ impl PoseBuffers {
         skin_every_vertex(character, model, &self.skin, &self.base, out);
     }
 
+    /// Starts loading what [`PoseBuffers::skin_vertex`] reads of vertex
+    /// `v` (its bind position, joints and weights; a hint).
+    #[inline(always)]
+    pub fn prefetch_vertex(character: &Character, model: SkinningModel, v: usize) {
+        crate::prefetch::prefetch_at(character.mesh.positions(), v);
+        match model {
+            SkinningModel::Linear => character.influences.prefetch(v),
+            SkinningModel::Paper => character.paper.prefetch(v),
+        }
+    }
+
     /// Vertex `v` skinned with `model` from the current skin matrices (the
     /// same arithmetic as [`PoseBuffers::skin_all`], bit for bit).
     #[inline]

@@ -171,6 +171,13 @@ impl Influences {
         }
     }
 
+    /// Starts loading vertex `v`'s joints and weights (a hint).
+    #[inline(always)]
+    pub fn prefetch(&self, v: usize) {
+        crate::prefetch::prefetch_at(&self.joints, v);
+        crate::prefetch::prefetch_at(&self.weights, v);
+    }
+
     #[inline]
     pub fn skin_vertex(&self, v: usize, p: &Point, skin: &[Matrix4<f32>]) -> Point {
         let h = p.to_homogeneous();
@@ -294,6 +301,13 @@ impl PaperBinding {
         w: f32,
     ) -> Matrix4<f32> {
         Self::parent_matrix(skeleton, skin, base, a) * (1.0 - w) + skin[a.index()] * w
+    }
+
+    /// Starts loading vertex `v`'s joint and weight (a hint).
+    #[inline(always)]
+    pub fn prefetch(&self, v: usize) {
+        crate::prefetch::prefetch_at(&self.joint, v);
+        crate::prefetch::prefetch_at(&self.weight, v);
     }
 
     /// Skins vertex `v` (bind position `p`) with the paper's model; `base` is

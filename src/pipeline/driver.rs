@@ -29,6 +29,7 @@ use crate::character::{Character, Clip, OnDemandSkin, PoseBuffers, SkinningModel
 use crate::geometry::ops;
 use crate::geometry::tri_tri::triangles_intersect;
 use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
+use crate::prefetch::prefetch_at;
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::{RefitState, Refitter};
 use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
@@ -122,6 +123,11 @@ pub struct Pipeline {
     visits: Option<TestedNodes>,
     pub(super) options: PipelineOptions,
 }
+
+/// How many leaf pairs ahead of the one being skinned or tested the
+/// vertices and triangles it will read are prefetched (twice as far, the
+/// triangle's indices that name them).
+const LEAF_PAIRS_AHEAD: usize = 4;
 
 /// [`Hierarchy`] over the character tree that refits on first request and,
 /// if `TIMED`, counts the time-stamp ticks spent refitting (two `rdtsc` per
@@ -331,10 +337,19 @@ impl Pipeline {
         let model = self.options.skinning;
         let indices = character.mesh.indices();
         let all_tri_tri = self.method.big_leaf_test() == LeafTest::TriTri;
+        // Prefetching ahead pays where leaf pairs are few and each reads new
+        // memory: the methods that test each pair once. The others meet the
+        // same triangles over and over (thousands of pairs), which stay
+        // cached, and the hints would only cost (docs/performance.md,
+        // "Cold caches").
+        let ahead = self.method.tests_each_pair_once();
         if all_tri_tri && 3 * self.leaf_pairs.len() > 4 * character.mesh.positions().len() {
             self.skin.skin_all(buffers, character, model);
         } else {
-            for p in &self.leaf_pairs {
+            for (k, p) in self.leaf_pairs.iter().enumerate() {
+                if ahead {
+                    self.prefetch_skinning(k, character);
+                }
                 if !self.plane_sphere_leaf(p) {
                     for v in indices[p.primitive_a as usize] {
                         self.skin.ensure(buffers, character, model, v);
@@ -352,7 +367,10 @@ impl Pipeline {
         if once {
             self.repeats.begin_pass();
         }
-        for p in &self.leaf_pairs {
+        for (k, p) in self.leaf_pairs.iter().enumerate() {
+            if ahead {
+                self.prefetch_narrow(k, env);
+            }
             if once
                 && self.environment.is_division_leaf(p.leaf_b)
                 && !self.repeats.first_time(p.primitive_a, p.primitive_b)
@@ -421,10 +439,7 @@ impl Pipeline {
         self.leaf_pairs.clear();
         let leaf_pairs = &mut self.leaf_pairs;
         let envt = &self.environment;
-        let mut env_side = LoggedTree {
-            tree: &envt.tree,
-            log,
-        };
+        let mut env_side = LoggedTree { env: envt, log };
         let mut guard_tests = 0u64;
         let stats = if self.method.tests_each_pair_once() {
             let guard = envt.plane_prism_guard(&mut guard_tests);
@@ -472,6 +487,40 @@ impl Pipeline {
     /// [`Self::set_visit_log`] is on.
     pub fn visit_log(&self) -> Option<&TestedNodes> {
         self.visits.as_ref()
+    }
+
+    /// While skinning for leaf pair `k`: starts loading the character
+    /// triangle of pair `k + 2·AHEAD` and the vertices of pair `k + AHEAD`'s
+    /// (whose triangle has arrived by then); see [`crate::prefetch`].
+    #[inline(always)]
+    fn prefetch_skinning(&self, k: usize, character: &Character) {
+        let indices = character.mesh.indices();
+        if let Some(q) = self.leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
+            prefetch_at(indices, q.primitive_a as usize);
+        }
+        if let Some(q) = self.leaf_pairs.get(k + LEAF_PAIRS_AHEAD)
+            && !self.plane_sphere_leaf(q)
+        {
+            for v in indices[q.primitive_a as usize] {
+                self.skin.prefetch(character, self.options.skinning, v);
+            }
+        }
+    }
+
+    /// While testing leaf pair `k`: starts loading the repeat mark and the
+    /// room triangle of pair `k + 2·AHEAD`, and that triangle's corners for
+    /// pair `k + AHEAD`.
+    #[inline(always)]
+    fn prefetch_narrow(&self, k: usize, env: &TriMesh) {
+        if let Some(q) = self.leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
+            self.repeats.prefetch(q.primitive_a);
+            prefetch_at(env.indices(), q.primitive_b as usize);
+        }
+        if let Some(q) = self.leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
+            for v in env.indices()[q.primitive_b as usize] {
+                prefetch_at(env.positions(), v as usize);
+            }
+        }
     }
 
     /// Whether leaf pair `p` is answered by the plane-sphere test (a big
@@ -522,18 +571,22 @@ impl Pipeline {
 /// guard can read the environment while traversal runs), telling `log` of
 /// every sphere-sphere test its nodes take part in.
 struct LoggedTree<'a, L> {
-    tree: &'a SphereTree,
+    env: &'a EnvironmentTree,
     log: &'a mut L,
 }
 
 impl<L: VisitLog> Hierarchy for LoggedTree<'_, L> {
     #[inline]
     fn tree(&self) -> &SphereTree {
-        self.tree
+        &self.env.tree
     }
     #[inline]
     fn sphere(&mut self, id: NodeId) -> crate::geometry::Sphere {
-        self.tree.nodes()[id.index()].sphere
+        self.env.tree.nodes()[id.index()].sphere
+    }
+    #[inline]
+    fn prefetch(&self, id: NodeId) {
+        self.env.prefetch(id);
     }
     #[inline]
     fn tested(&mut self, id: NodeId) {

@@ -8,6 +8,7 @@ use crate::geometry::plane_sphere::TrianglePlane;
 use crate::geometry::triangle_prism::TrianglePrism;
 use crate::geometry::{Real, Sphere};
 use crate::mesh::{TriMesh, TriangleId};
+use crate::prefetch::prefetch_at;
 use crate::sphere_tree::{BuildParams, Node, NodeId, SphereTree, build_tree};
 
 use super::Method;
@@ -247,6 +248,14 @@ impl EnvironmentTree {
                 self.prisms[d as usize].may_meet(s)
             }
         }
+    }
+
+    /// Starts loading what a traversal reads of node `id`: the node and its
+    /// division mark (a hint; see [`crate::prefetch`]).
+    #[inline(always)]
+    pub fn prefetch(&self, id: NodeId) {
+        prefetch_at(self.tree.nodes(), id.index());
+        prefetch_at(&self.leaf_division, id.index());
     }
 
     /// Whether node `id` is a leaf of a big triangle's division.

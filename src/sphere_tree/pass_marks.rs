@@ -40,6 +40,13 @@ impl PassMarks {
         }
     }
 
+    /// Starts loading `index`'s entry (a hint, for an index
+    /// [`Self::first_time`] will be asked about soon).
+    #[inline(always)]
+    pub fn prefetch(&self, index: u32) {
+        crate::prefetch::prefetch_at(&self.last, index as usize);
+    }
+
     /// Whether `(index, key)` is met for the first time in this pass (as far
     /// as one entry per index remembers); notes it.
     #[inline]

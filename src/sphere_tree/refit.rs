@@ -1109,8 +1109,11 @@ impl Refitter<'_> {
                 let (m, n) = self.slot_rows(joint);
                 let q = apply_rows(m, &widen(&rest_center));
                 let center = Point::new(q.x as f32, q.y as f32, q.z as f32);
-                let hold =
-                    (q - widen(&center)).norm_squared().sqrt() + rest_radius as f64 * n.stretch;
+                // How far rounding moved the centre, bounded by the sum of
+                // the components (never below the length, and no square
+                // root on the traversal's path: the gap is an `f32` ulp).
+                let d = q - widen(&center);
+                let hold = d.x.abs() + d.y.abs() + d.z.abs() + rest_radius as f64 * n.stretch;
                 ball_sphere(data, center, hold, n, reach)
             }
         };
@@ -1129,7 +1132,7 @@ impl Refitter<'_> {
 
     /// Starts loading what asking for node `id`'s sphere reads: its stamp
     /// and sphere, its rest node and its rule (a hint; see
-    /// [`super::traverse::prefetch`]).
+    /// [`crate::prefetch`]).
     #[inline(always)]
     pub fn prefetch(&self, id: NodeId) {
         let i = id.index();
@@ -1137,6 +1140,19 @@ impl Refitter<'_> {
         prefetch(self.state.spheres.as_ptr().wrapping_add(i));
         prefetch(self.tree.tree.nodes().as_ptr().wrapping_add(i));
         prefetch(self.tree.refit.rules.as_ptr().wrapping_add(i));
+    }
+
+    /// Starts loading node `id`'s rest balls, if its rule keeps them apart
+    /// ([`Rule::JointBalls`]). Reads the rule: call it once
+    /// [`Self::prefetch`] has had time to load it.
+    #[inline(always)]
+    pub fn prefetch_balls(&self, id: NodeId) {
+        if let Rule::JointBalls { start, end, .. } = self.tree.refit.rules[id.index()] {
+            let balls = self.tree.refit.balls.as_ptr();
+            prefetch(balls.wrapping_add(start as usize));
+            // A ball is 20 bytes: the last one may start a line of its own.
+            prefetch(balls.wrapping_add(end as usize - 1));
+        }
     }
 
     /// Slot joint `j`'s skin matrix and norms (`BASE`: the base frame's).

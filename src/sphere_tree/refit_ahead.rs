@@ -44,6 +44,10 @@ impl Refitter<'_> {
             if let Some(&next) = self.state.asked_before.get(k + PREFETCH_DISTANCE) {
                 self.prefetch(NodeId(next));
             }
+            // Half-way: its rule has arrived, so its balls can be asked for.
+            if let Some(&next) = self.state.asked_before.get(k + PREFETCH_DISTANCE / 2) {
+                self.prefetch_balls(NodeId(next));
+            }
             let id = NodeId(self.state.asked_before[k]);
             let stamp = self.state.stamp[id.index()];
             if stamp != frame && stamp != frame | AHEAD {

@@ -31,22 +31,7 @@ pub trait Hierarchy {
     }
 }
 
-/// Starts loading the cache line of `p` (a hint; nothing on other
-/// architectures). Traversal calls it for the children it will test after
-/// the pair just pushed is popped: a frame's trees are cold after other work
-/// (skinning, rendering, another library) and their nodes come from memory.
-#[inline(always)]
-pub fn prefetch<T>(p: *const T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch is a hint that never faults, whatever the address.
-    #[allow(unused_unsafe)]
-    unsafe {
-        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-        _mm_prefetch::<_MM_HINT_T0>(p as *const i8);
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = p;
-}
+pub use crate::prefetch::prefetch;
 
 impl Hierarchy for SphereTree {
     #[inline]
@@ -208,7 +193,7 @@ where
                         let sc = a.sphere(NodeId(c));
                         if sc.overlaps(&sb) && guard(j, &sc) {
                             ws.stack.push((NodeId(c), j));
-                            prefetch_next(a, b, NodeId(c), j, sc.radius, sb.radius);
+                            prefetch_next(a, b, &marks, NodeId(c), j, sc.radius, sb.radius);
                         }
                     }
                 } else {
@@ -219,7 +204,7 @@ where
                         let sc = b.sphere(NodeId(c));
                         if sa.overlaps(&sc) && guard(NodeId(c), &sa) {
                             ws.stack.push((i, NodeId(c)));
-                            prefetch_next(a, b, i, NodeId(c), sa.radius, sc.radius);
+                            prefetch_next(a, b, &marks, i, NodeId(c), sa.radius, sc.radius);
                         }
                     }
                 }
@@ -232,17 +217,35 @@ where
 
 /// For the pair `(i, j)` just pushed, with sphere radii `ra`, `rb`: prefetches
 /// the children traversal will test when it pops the pair (the side it will
-/// open, by the rule of [`traverse_guarded`]).
+/// open, by the rule of [`traverse_guarded`]), and `i`'s mark if the pop
+/// will look it up (`j` a leaf, with marks).
 #[inline(always)]
-fn prefetch_next<A, B>(a: &A, b: &B, i: NodeId, j: NodeId, ra: f32, rb: f32)
-where
+fn prefetch_next<A, B>(
+    a: &A,
+    b: &B,
+    marks: &Option<&mut PassMarks>,
+    i: NodeId,
+    j: NodeId,
+    ra: f32,
+    rb: f32,
+) where
     A: Hierarchy + ?Sized,
     B: Hierarchy + ?Sized,
 {
     let (na, nb) = (a.tree().node(i), b.tree().node(j));
+    let marks = marks.as_deref().filter(|_| nb.is_leaf());
+    if let Some(m) = marks {
+        m.prefetch(i.0);
+    }
     if nb.is_leaf() || (!na.is_leaf() && ra >= rb) {
         for c in na.children() {
             a.prefetch(NodeId(c));
+        }
+        // The children's pairs with the leaf `j` will look their marks up
+        // when popped, right after being pushed: too soon to load them then.
+        if let (Some(m), Some(last)) = (marks, na.children().last()) {
+            m.prefetch(na.children().start);
+            m.prefetch(last);
         }
     } else {
         for c in nb.children() {
