@@ -217,7 +217,7 @@ impl Pipeline {
             character,
             dedup,
             options.skinning,
-            options.build,
+            method.character_build(options.build),
             method.refit_rule(),
         );
         let mut refit = RefitState::new(&character_tree, character.skeleton.len());

@@ -9,7 +9,14 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use crate::big_triangle::DivisionKind;
+use crate::sphere_tree::BuildParams;
 use crate::sphere_tree::refit::RefitRule;
+
+/// The collapse ratio of our methods' character trees
+/// ([`Method::character_build`]): on touching, crowd and handshake the
+/// frame was fastest at 0.6 of the ratios 0.4–0.9 tried, with the living
+/// room level (docs/performance.md, "A wider character tree").
+pub const WIDE_CHARACTER_COLLAPSE: f32 = 0.6;
 
 /// How the environment's big triangles are handled.
 #[derive(
@@ -172,6 +179,22 @@ impl Method {
         match self {
             Method::PrunedTriTri | Method::UndividedPrunedTriTri => RefitRule::JointBalls,
             _ => RefitRule::PaperCorners,
+        }
+    }
+
+    /// How the character's tree is built from `paper`, the build of the
+    /// paper's methods (our reading of §3's "similar" spheres: a child
+    /// more than 0.9 of its parent's radius is collapsed into it). Ours
+    /// collapse a child over [`WIDE_CHARACTER_COLLAPSE`] of its parent's: a
+    /// wider, shallower tree, with fewer inner spheres to refit and test
+    /// on the way down (docs/performance.md, "A wider character tree").
+    /// The room's tree is built from `paper` for every method.
+    pub fn character_build(self, paper: BuildParams) -> BuildParams {
+        match self {
+            Method::PrunedTriTri | Method::UndividedPrunedTriTri => BuildParams {
+                collapse_ratio: WIDE_CHARACTER_COLLAPSE,
+            },
+            _ => paper,
         }
     }
 

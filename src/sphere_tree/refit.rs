@@ -1354,6 +1354,50 @@ mod tests {
         }
     }
 
+    /// Our methods' wider character tree ([`Method::character_build`]) is a
+    /// different tree (fewer nodes than the paper's build) and its joint
+    /// balls still hold every skinned vertex exactly, under both skinning
+    /// models, on the stretched, far-placed walk above.
+    ///
+    /// [`Method::character_build`]: crate::pipeline::Method::character_build
+    #[test]
+    fn the_wide_character_tree_holds_every_vertex() {
+        use crate::pipeline::Method;
+        let c = generate_humanoid(&HumanoidParams {
+            vertices: 3000,
+            seed: 4,
+        })
+        .unwrap();
+        let paper = BuildParams::default();
+        for model in [SkinningModel::Paper, SkinningModel::Linear] {
+            let build = |params| {
+                let keep = EdgeDedup::keep_all(&c.mesh);
+                CharacterTree::build_with_rule(&c, &keep, model, params, RefitRule::JointBalls)
+            };
+            let wide = build(Method::UndividedPrunedTriTri.character_build(paper));
+            let deep = build(Method::PlaneSpherePruned.character_build(paper));
+            assert!(
+                wide.tree.len() < deep.tree.len(),
+                "{model:?}: {} nodes, paper's build {}",
+                wide.tree.len(),
+                deep.tree.len()
+            );
+            let sets = VertexSets::new(&wide.tree, &c.mesh);
+            let mut b = PoseBuffers::new(&c);
+            for step in 0..8 {
+                pose_stretched_far_away(&c, &mut b, step as f32 / 8.0);
+                b.skin_all(&c, model);
+                let held = sets.check(&every_sphere(&wide, &c, &b), &b.positions, 0.0);
+                assert!(held.checks > 0);
+                assert_eq!(
+                    held.violations, 0,
+                    "{model:?} step {step}: worst excess {}",
+                    held.worst_excess
+                );
+            }
+        }
+    }
+
     /// The stretch bounds the largest singular value (from nalgebra's SVD)
     /// from above and is within 10⁻⁵ of it, on both of its paths: rotations
     /// times axis-aligned scales (the Gershgorin path) and sheared or
