@@ -1151,7 +1151,7 @@ impl Refitter<'_> {
             let balls = self.tree.refit.balls.as_ptr();
             prefetch(balls.wrapping_add(start as usize));
             // A ball is 20 bytes: the last one may start a line of its own.
-            prefetch(balls.wrapping_add(end as usize - 1));
+            prefetch(balls.wrapping_add((end as usize).saturating_sub(1)));
         }
     }
 
