@@ -100,11 +100,12 @@ use crate::character::skinning::{LINEAR_ROUNDINGS, PAPER_ROUNDINGS};
 use crate::character::{Character, JointId, Skeleton, SkinningModel};
 use crate::geometry::enclosing::{points_sphere, round_up};
 use crate::geometry::{Point, Sphere, Vector};
+use crate::prefetch::prefetch_at;
 
 use super::character::{CharacterTree, Origin};
 use super::containment::VertexSets;
 use super::node::{NodeId, SphereTree};
-use super::traverse::{Hierarchy, prefetch};
+use super::traverse::Hierarchy;
 
 /// `f64` vectors: corner points and slot points of a refit.
 type V64 = Vector3<f64>;
@@ -1136,22 +1137,22 @@ impl Refitter<'_> {
     #[inline(always)]
     pub fn prefetch(&self, id: NodeId) {
         let i = id.index();
-        prefetch(self.state.stamp.as_ptr().wrapping_add(i));
-        prefetch(self.state.spheres.as_ptr().wrapping_add(i));
-        prefetch(self.tree.tree.nodes().as_ptr().wrapping_add(i));
-        prefetch(self.tree.refit.rules.as_ptr().wrapping_add(i));
+        prefetch_at(&self.state.stamp, i);
+        prefetch_at(&self.state.spheres, i);
+        prefetch_at(self.tree.tree.nodes(), i);
+        prefetch_at(&self.tree.refit.rules, i);
     }
 
     /// Starts loading node `id`'s rest balls, if its rule keeps them apart
-    /// ([`Rule::JointBalls`]). Reads the rule: call it once
+    /// ([`RefitRule::JointBalls`] with several balls). Reads the rule: call it once
     /// [`Self::prefetch`] has had time to load it.
     #[inline(always)]
     pub fn prefetch_balls(&self, id: NodeId) {
         if let Rule::JointBalls { start, end, .. } = self.tree.refit.rules[id.index()] {
-            let balls = self.tree.refit.balls.as_ptr();
-            prefetch(balls.wrapping_add(start as usize));
+            let balls = &self.tree.refit.balls;
+            prefetch_at(balls, start as usize);
             // A ball is 20 bytes: the last one may start a line of its own.
-            prefetch(balls.wrapping_add((end as usize).saturating_sub(1)));
+            prefetch_at(balls, (end as usize).saturating_sub(1));
         }
     }
 

@@ -8,6 +8,7 @@
 //! pairs of overlapping leaves go to the narrow-phase callback.
 
 use crate::geometry::Sphere;
+use crate::prefetch::prefetch_at;
 
 use super::node::{Node, NodeId, SphereTree};
 use super::pass_marks::PassMarks;
@@ -27,11 +28,9 @@ pub trait Hierarchy {
     /// read for `id` (a hint: by default the node itself).
     #[inline]
     fn prefetch(&self, id: NodeId) {
-        prefetch(self.tree().nodes().as_ptr().wrapping_add(id.index()));
+        prefetch_at(self.tree().nodes(), id.index());
     }
 }
-
-pub use crate::prefetch::prefetch;
 
 impl Hierarchy for SphereTree {
     #[inline]
