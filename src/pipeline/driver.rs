@@ -491,16 +491,16 @@ impl Pipeline {
 
     /// While skinning for leaf pair `k`: starts loading the character
     /// triangle of pair `k + 2·AHEAD` and the vertices of pair `k + AHEAD`'s
-    /// (whose triangle has arrived by then); see [`crate::prefetch`].
+    /// (whose triangle has arrived by then); see [`crate::prefetch`]. Its
+    /// callers (the methods that test each pair once) answer every leaf
+    /// pair by the triangle test, so every pair's vertices will be read.
     #[inline(always)]
     fn prefetch_skinning(&self, k: usize, character: &Character) {
         let indices = character.mesh.indices();
         if let Some(q) = self.leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
             prefetch_at(indices, q.primitive_a as usize);
         }
-        if let Some(q) = self.leaf_pairs.get(k + LEAF_PAIRS_AHEAD)
-            && !self.plane_sphere_leaf(q)
-        {
+        if let Some(q) = self.leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
             for v in indices[q.primitive_a as usize] {
                 self.skin.prefetch(character, self.options.skinning, v);
             }
