@@ -27,7 +27,18 @@ const SNAP: f64 = 16.0 * f64::EPSILON;
 /// rounding-error bound.
 #[inline(always)]
 pub fn plane_offsets<T: Scalar>(w: &[V3<T>; 3], n: &V3<T>, u: &V3<T>, v: &V3<T>) -> [T; 3] {
-    let uv2 = norm_squared(u) * norm_squared(v);
+    plane_offsets_scaled(w, n, edge_scale(u, v))
+}
+
+/// `|u|²·|v|²`, the scale of [`plane_offsets`]' snapping bound.
+#[inline(always)]
+pub fn edge_scale<T: Scalar>(u: &V3<T>, v: &V3<T>) -> T {
+    norm_squared(u) * norm_squared(v)
+}
+
+/// [`plane_offsets`] with `uv2 = edge_scale(u, v)` given.
+#[inline(always)]
+pub fn plane_offsets_scaled<T: Scalar>(w: &[V3<T>; 3], n: &V3<T>, uv2: T) -> [T; 3] {
     let snap2 = T::from_f64(SNAP * SNAP);
     w.map(|wi| {
         let d = dot(n, &wi);

@@ -19,6 +19,9 @@
 //! (`tests/tri_tri_agreement.rs`); the operation model (§6) charges either 96.
 
 pub use super::tropp::triangles_intersect;
+/// The same test on triangles prepared once each
+/// ([`crate::pipeline::prepared_triangles`]).
+pub use super::tropp::{Prepared, prepared_intersect};
 
 /// The name of the kernel behind [`triangles_intersect`], as
 /// `cornertree kernels` prints it.

@@ -75,7 +75,9 @@
 //! [`super::counted::Counted`] counts the operations paid.
 
 use super::Triangle;
-use super::coplanar_degenerate::{coplanar, degenerate_pair, one_side, plane_offsets};
+use super::coplanar_degenerate::{
+    coplanar, degenerate_pair, edge_scale, one_side, plane_offsets_scaled,
+};
 use super::scalar::Scalar;
 use super::vec3::{V3, cross, dot, is_zero, sub, widen_triangle};
 
@@ -86,48 +88,91 @@ pub fn triangles_intersect(t1: &Triangle, t2: &Triangle) -> bool {
 
 /// [`triangles_intersect`] computed in `T`.
 pub fn triangles_intersect_as<T: Scalar>(t1: &Triangle, t2: &Triangle) -> bool {
-    let (a, b) = (widen_triangle::<T>(t1), widen_triangle::<T>(t2));
-    let (ua, va) = (sub(&a[1], &a[0]), sub(&a[2], &a[0]));
-    let (ub, vb) = (sub(&b[1], &b[0]), sub(&b[2], &b[0]));
-    let (na, nb) = (cross(&ua, &va), cross(&ub, &vb));
-    // Exactly zero iff collinear (edge products are exact, one rounding each).
-    match (is_zero(&na), is_zero(&nb)) {
+    prepared_intersect(&Prepared::<T>::new(t1), &Prepared::<T>::new(t2))
+}
+
+/// What the test computes from one triangle alone, in `T`: its corners,
+/// the edges `u`, `v` from its first corner, their cross product `n` (the
+/// plane's normal; exactly zero iff the corners are collinear) and, when
+/// `n` is not zero, `|u|²·|v|²` (the scale of the snapping bound of offsets
+/// from its plane). A narrow phase whose triangles meet several others
+/// (each triangle of two brushing characters meets about seven) prepares
+/// each once; [`prepared_intersect`] on two prepared triangles is the very
+/// arithmetic of [`triangles_intersect_as`], which prepares both, so the
+/// answers are the same bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub struct Prepared<T> {
+    p: [V3<T>; 3],
+    u: V3<T>,
+    v: V3<T>,
+    n: V3<T>,
+    flat: bool,
+    uv2: T,
+}
+
+impl<T: Scalar> Prepared<T> {
+    #[inline(always)]
+    pub fn new(t: &Triangle) -> Self {
+        let p = widen_triangle::<T>(t);
+        let (u, v) = (sub(&p[1], &p[0]), sub(&p[2], &p[0]));
+        // Exactly zero iff collinear (edge products are exact, one rounding each).
+        let n = cross(&u, &v);
+        let flat = is_zero(&n);
+        let uv2 = if flat { T::zero() } else { edge_scale(&u, &v) };
+        Self {
+            p,
+            u,
+            v,
+            n,
+            flat,
+            uv2,
+        }
+    }
+}
+
+/// Whether the closed triangles `a` and `b` share a point
+/// ([`triangles_intersect_as`] on prepared triangles).
+#[inline]
+pub fn prepared_intersect<T: Scalar>(a: &Prepared<T>, b: &Prepared<T>) -> bool {
+    match (a.flat, b.flat) {
         (false, false) => {
             // Plane-side exits both ways.
-            let wb = from_corner(&b, &a[0]);
-            let db = plane_offsets(&wb, &na, &ua, &va);
+            let wb = from_corner(&b.p, &a.p[0]);
+            let db = plane_offsets_scaled(&wb, &a.n, a.uv2);
             if one_side(&db) {
                 return false;
             }
-            let wa = from_corner(&a, &b[0]);
-            let da = plane_offsets(&wa, &nb, &ub, &vb);
+            let wa = from_corner(&a.p, &b.p[0]);
+            let da = plane_offsets_scaled(&wa, &b.n, b.uv2);
             if one_side(&da) {
                 return false;
             }
             // B's section of A's plane against A; on a miss with a corner of
             // A on B's plane, A's section of B's plane against B.
-            match section_meets(&a, &ua, &va, &na, &b, &wb, &db, true) {
+            match section_meets(&a.p, &a.u, &a.v, &a.n, &b.p, &wb, &db, true) {
                 Some(hit) => hit,
                 None => {
                     let z = T::zero();
                     (da[0] == z || da[1] == z || da[2] == z)
-                        && section_meets(&b, &ub, &vb, &nb, &a, &wa, &da, true) == Some(true)
+                        && section_meets(&b.p, &b.u, &b.v, &b.n, &a.p, &wa, &da, true) == Some(true)
                 }
             }
         }
         // A segment (or point) against a triangle: its section of the plane
         // is all of it.
         (false, true) => {
-            let wb = from_corner(&b, &a[0]);
-            let db = plane_offsets(&wb, &na, &ua, &va);
-            !one_side(&db) && section_meets(&a, &ua, &va, &na, &b, &wb, &db, false) == Some(true)
+            let wb = from_corner(&b.p, &a.p[0]);
+            let db = plane_offsets_scaled(&wb, &a.n, a.uv2);
+            !one_side(&db)
+                && section_meets(&a.p, &a.u, &a.v, &a.n, &b.p, &wb, &db, false) == Some(true)
         }
         (true, false) => {
-            let wa = from_corner(&a, &b[0]);
-            let da = plane_offsets(&wa, &nb, &ub, &vb);
-            !one_side(&da) && section_meets(&b, &ub, &vb, &nb, &a, &wa, &da, false) == Some(true)
+            let wa = from_corner(&a.p, &b.p[0]);
+            let da = plane_offsets_scaled(&wa, &b.n, b.uv2);
+            !one_side(&da)
+                && section_meets(&b.p, &b.u, &b.v, &b.n, &a.p, &wa, &da, false) == Some(true)
         }
-        (true, true) => degenerate_pair(&a, &b),
+        (true, true) => degenerate_pair(&a.p, &b.p),
     }
 }
 
@@ -231,6 +276,7 @@ fn segment_meets_canonical_triangle<T: Scalar>(p: &[T; 3], q: &[T; 3]) -> bool {
 mod tests {
     use super::*;
     use crate::geometry::Point;
+    use crate::geometry::coplanar_degenerate::plane_offsets;
 
     fn tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Triangle {
         Triangle::new(Point::from(a), Point::from(b), Point::from(c))

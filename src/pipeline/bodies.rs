@@ -21,7 +21,7 @@ use nalgebra::Isometry3;
 
 use crate::character::Character;
 use crate::character::PoseBuffers;
-use crate::geometry::tri_tri::triangles_intersect;
+use crate::geometry::tri_tri::prepared_intersect;
 use crate::geometry::{Sphere, Triangle};
 use crate::mesh::{TriMesh, TriangleId};
 use crate::sphere_tree::refit::Refitter;
@@ -30,8 +30,9 @@ use crate::sphere_tree::{
     Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_grouped, traverse_guarded,
 };
 
-use super::EnvironmentTree;
 use super::driver::{FrameCounters, Pipeline, TimedRefit, ticks};
+use super::prepared_triangles::PreparedTriangles;
+use super::{EnvironmentTree, LeafTest};
 
 /// Relative slack added to a sphere's radius when it changes frame: a rigid
 /// transform in `f32` moves a point by a few units in the last place of its
@@ -177,6 +178,10 @@ impl Pipeline {
         if once {
             self.repeats.begin_pass();
         }
+        let [prepared_c, prepared_o] = &mut self.prepared;
+        prepared_c.clear();
+        prepared_o.clear();
+        let by_plane = self.method.big_leaf_test() == LeafTest::PlaneSphere;
         for p in &self.object_leaf_pairs {
             if once
                 && object.is_division_leaf(p.leaf_b)
@@ -184,7 +189,8 @@ impl Pipeline {
             {
                 continue;
             }
-            let hit = if self.answers_by_plane(object, p.leaf_b) {
+            // `answers_by_plane`, with `self` borrowed field by field.
+            let hit = if by_plane && object.is_division_leaf(p.leaf_b) {
                 if self.method.prunes_at_plane() {
                     true
                 } else {
@@ -194,13 +200,16 @@ impl Pipeline {
                 }
             } else {
                 c.tri_tri += 1;
-                let [i, j, k] = indices[p.primitive_a as usize];
-                let ct = Triangle::new(
-                    to_object * self.skin.position(i),
-                    to_object * self.skin.position(j),
-                    to_object * self.skin.position(k),
-                );
-                triangles_intersect(&ct, &mesh.triangle(TriangleId(p.primitive_b)))
+                let ct = prepared_c.get(p.primitive_a, || {
+                    let [i, j, k] = indices[p.primitive_a as usize];
+                    Triangle::new(
+                        to_object * self.skin.position(i),
+                        to_object * self.skin.position(j),
+                        to_object * self.skin.position(k),
+                    )
+                });
+                let ot = prepared_o.get(p.primitive_b, || mesh.triangle(TriangleId(p.primitive_b)));
+                prepared_intersect(ct, ot)
             };
             if hit {
                 pairs.push((p.primitive_a, p.primitive_b));
@@ -250,11 +259,22 @@ fn traverse_pair<const TIMED: bool>(
     (stats, ha.ticks + hb.ticks)
 }
 
+/// What [`detect_characters`] keeps between calls so that it allocates
+/// nothing once grown.
+#[derive(Clone, Debug, Default)]
+pub struct CharacterPairScratch {
+    leaf_pairs: Vec<LeafPair>,
+    workspace: Workspace,
+    /// Each side's triangles prepared for the triangle-triangle test.
+    prepared: [PreparedTriangles; 2],
+}
+
 /// Two characters of a world against each other, after both pipelines'
 /// [`Pipeline::begin_frame`]: one simultaneous traversal refitting both
 /// trees on demand, then the triangle-triangle test at every overlapping
-/// leaf pair. Fills `pairs` with the colliding `(triangle of a, triangle of
-/// b)` pairs, sorted and distinct; `leaf_pairs` and `workspace` are scratch.
+/// leaf pair, each side's triangles prepared once for it. Fills `pairs`
+/// with the colliding `(triangle of a, triangle of b)` pairs, sorted and
+/// distinct.
 #[allow(clippy::too_many_arguments)]
 pub fn detect_characters(
     a: &mut Pipeline,
@@ -263,10 +283,14 @@ pub fn detect_characters(
     b: &mut Pipeline,
     cb: &Character,
     bb: &PoseBuffers,
-    leaf_pairs: &mut Vec<LeafPair>,
-    workspace: &mut Workspace,
+    scratch: &mut CharacterPairScratch,
     pairs: &mut Vec<(u32, u32)>,
 ) -> FrameCounters {
+    let CharacterPairScratch {
+        leaf_pairs,
+        workspace,
+        prepared: [prepared_a, prepared_b],
+    } = scratch;
     let mut c = FrameCounters::default();
     let refits_before = a.refit.refits + b.refit.refits;
     let skinned_before = a.skin.skinned() + b.skin.skinned();
@@ -301,14 +325,20 @@ pub fn detect_characters(
 
     let t0 = Instant::now();
     pairs.clear();
+    prepared_a.clear();
+    prepared_b.clear();
+    let corners = |skin: &crate::character::OnDemandSkin, [i, j, k]: [u32; 3]| {
+        Triangle::new(skin.position(i), skin.position(j), skin.position(k))
+    };
     for p in leaf_pairs.iter() {
         c.tri_tri += 1;
-        let ta = ia[p.primitive_a as usize].map(|v| a.skin.position(v));
-        let tb = ib[p.primitive_b as usize].map(|v| b.skin.position(v));
-        if triangles_intersect(
-            &Triangle::new(ta[0], ta[1], ta[2]),
-            &Triangle::new(tb[0], tb[1], tb[2]),
-        ) {
+        let ta = prepared_a.get(p.primitive_a, || {
+            corners(&a.skin, ia[p.primitive_a as usize])
+        });
+        let tb = prepared_b.get(p.primitive_b, || {
+            corners(&b.skin, ib[p.primitive_b as usize])
+        });
+        if prepared_intersect(ta, tb) {
             pairs.push((p.primitive_a, p.primitive_b));
         }
     }

@@ -27,7 +27,7 @@ use serde::Serialize;
 
 use crate::character::{Character, Clip, OnDemandSkin, PoseBuffers, SkinningModel};
 use crate::geometry::ops;
-use crate::geometry::tri_tri::triangles_intersect;
+use crate::geometry::tri_tri::prepared_intersect;
 use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
 use crate::prefetch::prefetch_at;
 use crate::sphere_tree::character::CharacterTree;
@@ -38,6 +38,7 @@ use crate::sphere_tree::{
     traverse_guarded,
 };
 
+use super::prepared_triangles::PreparedTriangles;
 use super::visit_log::{NoLog, TestedNodes, VisitLog};
 use super::{EnvironmentTree, LeafTest, Method};
 
@@ -115,6 +116,9 @@ pub struct Pipeline {
     /// Character spheres already descended against a big triangle in this
     /// traversal (methods that test each pair once).
     pub(super) group_marks: PassMarks,
+    /// The narrow phase's triangles prepared for the triangle-triangle test:
+    /// the character's, and the room's or a moving object's.
+    pub(super) prepared: [PreparedTriangles; 2],
     /// Whether the first frame has sized the buffers.
     warmed_up: bool,
     /// Whether refit time is measured apart from traversal.
@@ -128,6 +132,22 @@ pub struct Pipeline {
 /// vertices and triangles it will read are prefetched (twice as far, the
 /// triangle's indices that name them).
 const LEAF_PAIRS_AHEAD: usize = 4;
+
+/// While testing leaf pair `k` of `leaf_pairs`: starts loading the repeat
+/// mark and the room triangle of pair `k + 2·AHEAD`, and that triangle's
+/// corners for pair `k + AHEAD`.
+#[inline(always)]
+fn prefetch_narrow(leaf_pairs: &[LeafPair], repeats: &PassMarks, k: usize, env: &TriMesh) {
+    if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
+        repeats.prefetch(q.primitive_a);
+        prefetch_at(env.indices(), q.primitive_b as usize);
+    }
+    if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
+        for v in env.indices()[q.primitive_b as usize] {
+            prefetch_at(env.positions(), v as usize);
+        }
+    }
+}
 
 /// [`Hierarchy`] over the character tree that refits on first request and,
 /// if `TIMED`, counts the time-stamp ticks spent refitting (two `rdtsc` per
@@ -235,6 +255,7 @@ impl Pipeline {
             pairs: Vec::new(),
             repeats: PassMarks::new(character.mesh.triangle_count()),
             group_marks,
+            prepared: Default::default(),
             warmed_up: false,
             time_refit: true,
             visits: None,
@@ -367,9 +388,13 @@ impl Pipeline {
         if once {
             self.repeats.begin_pass();
         }
+        let [prepared_c, prepared_e] = &mut self.prepared;
+        prepared_c.clear();
+        prepared_e.clear();
+        let by_plane = self.method.big_leaf_test() == LeafTest::PlaneSphere;
         for (k, p) in self.leaf_pairs.iter().enumerate() {
             if ahead {
-                self.prefetch_narrow(k, env);
+                prefetch_narrow(&self.leaf_pairs, &self.repeats, k, env);
             }
             if once
                 && self.environment.is_division_leaf(p.leaf_b)
@@ -377,8 +402,8 @@ impl Pipeline {
             {
                 continue;
             }
-            let et = env.triangle(TriangleId(p.primitive_b));
-            let hit = if self.plane_sphere_leaf(p) {
+            // `plane_sphere_leaf`, with `self` borrowed field by field.
+            let hit = if by_plane && self.environment.is_division_leaf(p.leaf_b) {
                 if self.method.prunes_at_plane() {
                     // Already tested on the way down.
                     true
@@ -389,13 +414,16 @@ impl Pipeline {
                 }
             } else {
                 c.tri_tri += 1;
-                let [a, b, cc] = indices[p.primitive_a as usize];
-                let ct = crate::geometry::Triangle::new(
-                    self.skin.position(a),
-                    self.skin.position(b),
-                    self.skin.position(cc),
-                );
-                triangles_intersect(&ct, &et)
+                let ct = prepared_c.get(p.primitive_a, || {
+                    let [a, b, cc] = indices[p.primitive_a as usize];
+                    crate::geometry::Triangle::new(
+                        self.skin.position(a),
+                        self.skin.position(b),
+                        self.skin.position(cc),
+                    )
+                });
+                let et = prepared_e.get(p.primitive_b, || env.triangle(TriangleId(p.primitive_b)));
+                prepared_intersect(ct, et)
             };
             if hit {
                 self.pairs.push((p.primitive_a, p.primitive_b));
@@ -503,22 +531,6 @@ impl Pipeline {
         if let Some(q) = self.leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
             for v in indices[q.primitive_a as usize] {
                 self.skin.prefetch(character, self.options.skinning, v);
-            }
-        }
-    }
-
-    /// While testing leaf pair `k`: starts loading the repeat mark and the
-    /// room triangle of pair `k + 2·AHEAD`, and that triangle's corners for
-    /// pair `k + AHEAD`.
-    #[inline(always)]
-    fn prefetch_narrow(&self, k: usize, env: &TriMesh) {
-        if let Some(q) = self.leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
-            self.repeats.prefetch(q.primitive_a);
-            prefetch_at(env.indices(), q.primitive_b as usize);
-        }
-        if let Some(q) = self.leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
-            for v in env.indices()[q.primitive_b as usize] {
-                prefetch_at(env.positions(), v as usize);
             }
         }
     }

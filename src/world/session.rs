@@ -35,12 +35,11 @@ use crate::character::PoseBuffers;
 use crate::geometry::Sphere;
 use crate::io::limits::MAX_COORDINATE;
 use crate::mesh::{EdgeDedup, dedup_edges};
-use crate::pipeline::bodies::{detect_characters, sphere_in_frame};
+use crate::pipeline::bodies::{CharacterPairScratch, detect_characters, sphere_in_frame};
 use crate::pipeline::driver::{FrameCounters, Pipeline};
 use crate::pipeline::{EnvironmentTree, Method};
 use crate::scenario::Resolved;
-use crate::sphere_tree::traverse::LeafPair;
-use crate::sphere_tree::{NodeId, Workspace};
+use crate::sphere_tree::NodeId;
 
 use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
 use super::pass_graph::PassGraph;
@@ -107,8 +106,7 @@ struct PairScratch {
     b: u32,
     counters: FrameCounters,
     pairs: Vec<(u32, u32)>,
-    leaf_pairs: Vec<LeafPair>,
-    workspace: Workspace,
+    scratch: CharacterPairScratch,
 }
 
 impl World {
@@ -465,8 +463,7 @@ impl MethodWorld {
                 b: 0,
                 counters: FrameCounters::default(),
                 pairs: Vec::new(),
-                leaf_pairs: Vec::new(),
-                workspace: Workspace::new(),
+                scratch: CharacterPairScratch::default(),
             }));
         }
 
@@ -538,8 +535,7 @@ impl MethodWorld {
                     &mut pb,
                     &aj.character,
                     &buffers[j as usize],
-                    &mut s.leaf_pairs,
-                    &mut s.workspace,
+                    &mut s.scratch,
                     &mut s.pairs,
                 );
             }
