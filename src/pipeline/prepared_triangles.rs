@@ -19,14 +19,15 @@ use crate::geometry::tri_tri::Prepared;
 /// Entries of a table (a power of two).
 const SLOTS: usize = 64;
 
-/// No triangle: a mesh never has `u32::MAX` triangles.
-const EMPTY: u32 = u32::MAX;
-
 /// Prepared triangles of one mesh in its current pose.
 #[derive(Clone, Debug)]
 pub struct PreparedTriangles {
-    /// `(triangle index, its preparation)`; `EMPTY` marks a free entry.
-    slots: Box<[(u32, Prepared<f64>)]>,
+    /// `(tag, preparation)`: the tag is `pass << 32 | triangle index`, so
+    /// an entry of an earlier pass never matches and clearing writes
+    /// nothing; 0 (pass 0 is never current) marks a free entry.
+    slots: Box<[(u64, Prepared<f64>)]>,
+    /// The current pass, from 1.
+    pass: u32,
 }
 
 impl Default for PreparedTriangles {
@@ -43,15 +44,21 @@ impl PreparedTriangles {
             Default::default(),
         ));
         Self {
-            slots: vec![(EMPTY, none); SLOTS].into_boxed_slice(),
+            slots: vec![(0, none); SLOTS].into_boxed_slice(),
+            pass: 1,
         }
     }
 
     /// Forgets every triangle (call when the positions have changed, e.g.
-    /// at a narrow phase's start).
+    /// at a narrow phase's start). Writes nothing but the pass number,
+    /// except once every 2³² − 1 passes, when it wraps.
     pub fn clear(&mut self) {
-        for s in self.slots.iter_mut() {
-            s.0 = EMPTY;
+        self.pass = self.pass.wrapping_add(1);
+        if self.pass == 0 {
+            for s in self.slots.iter_mut() {
+                s.0 = 0;
+            }
+            self.pass = 1;
         }
     }
 
@@ -59,9 +66,10 @@ impl PreparedTriangles {
     /// [`PreparedTriangles::clear`].
     #[inline(always)]
     pub fn get(&mut self, id: u32, triangle: impl FnOnce() -> Triangle) -> &Prepared<f64> {
+        let tag = (self.pass as u64) << 32 | id as u64;
         let slot = &mut self.slots[id as usize & (SLOTS - 1)];
-        if slot.0 != id {
-            *slot = (id, Prepared::new(&triangle()));
+        if slot.0 != tag {
+            *slot = (tag, Prepared::new(&triangle()));
         }
         &slot.1
     }
@@ -94,8 +102,11 @@ mod tests {
         let mut other = PreparedTriangles::new();
         let mut made = 0;
         let mut hits = 0;
-        for round in 0..3 {
+        for round in 0..4 {
             if round == 2 {
+                table.clear();
+            }
+            if round == 3 {
                 table.clear();
             }
             for id in [1u32, 2, 1, 65, 1, 3, 200, 2] {
@@ -115,8 +126,25 @@ mod tests {
         }
         // Round 0 makes 1, 2, 65 (evicting 1), 1 (evicting 65), 3 and 200;
         // round 1 finds all but 65 and 1 (one slot) kept; after `clear`,
-        // round 2 makes what round 0 made.
-        assert_eq!(made, 6 + 2 + 6, "triangles prepared");
+        // rounds 2 and 3 make what round 0 made.
+        assert_eq!(made, 6 + 2 + 6 + 6, "triangles prepared");
         assert!(hits > 0, "some pairs intersect");
+    }
+
+    /// When the pass number wraps back to 1, an entry kept from the first
+    /// pass 1 does not come back.
+    #[test]
+    fn a_wrapped_pass_number_forgets_the_first_pass() {
+        let mut table = PreparedTriangles::new();
+        table.get(5, || tri(5));
+        table.pass = u32::MAX;
+        table.clear();
+        assert_eq!(table.pass, 1);
+        let mut asked = false;
+        table.get(5, || {
+            asked = true;
+            tri(5)
+        });
+        assert!(asked, "a stale entry was found");
     }
 }
