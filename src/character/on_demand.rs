@@ -11,7 +11,7 @@
 //! [`OnDemandSkin::skin_all`] skins every vertex in order instead, which is
 //! cheaper than checking stamps millions of times.
 
-use crate::geometry::Point;
+use crate::geometry::{Point, Triangle};
 
 use super::{Character, PoseBuffers, SkinningModel};
 
@@ -90,6 +90,12 @@ impl OnDemandSkin {
     pub fn position(&self, v: u32) -> Point {
         debug_assert!(self.is_current(v), "vertex {v} not skinned this frame");
         self.positions[v as usize]
+    }
+
+    /// The triangle of corners `[i, j, k]`, each skinned this frame.
+    #[inline]
+    pub fn triangle(&self, [i, j, k]: [u32; 3]) -> Triangle {
+        Triangle::new(self.position(i), self.position(j), self.position(k))
     }
 
     /// Whether vertex `v` was skinned this frame.

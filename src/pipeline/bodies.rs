@@ -30,9 +30,9 @@ use crate::sphere_tree::{
     Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_grouped, traverse_guarded,
 };
 
+use super::EnvironmentTree;
 use super::driver::{FrameCounters, Pipeline, TimedRefit, ticks};
 use super::prepared_triangles::PreparedTriangles;
-use super::{EnvironmentTree, LeafTest};
 
 /// Relative slack added to a sphere's radius when it changes frame: a rigid
 /// transform in `f32` moves a point by a few units in the last place of its
@@ -164,7 +164,7 @@ impl Pipeline {
         let indices = character.mesh.indices();
         let t0 = Instant::now();
         for p in &self.object_leaf_pairs {
-            if !self.answers_by_plane(object, p.leaf_b) {
+            if !object.answers_by_plane(self.method, p.leaf_b) {
                 for v in indices[p.primitive_a as usize] {
                     self.skin.ensure(buffers, character, model, v);
                 }
@@ -181,7 +181,6 @@ impl Pipeline {
         let [prepared_c, prepared_o] = &mut self.prepared;
         prepared_c.clear();
         prepared_o.clear();
-        let by_plane = self.method.big_leaf_test() == LeafTest::PlaneSphere;
         for p in &self.object_leaf_pairs {
             if once
                 && object.is_division_leaf(p.leaf_b)
@@ -189,8 +188,7 @@ impl Pipeline {
             {
                 continue;
             }
-            // `answers_by_plane`, with `self` borrowed field by field.
-            let hit = if by_plane && object.is_division_leaf(p.leaf_b) {
+            let hit = if object.answers_by_plane(self.method, p.leaf_b) {
                 if self.method.prunes_at_plane() {
                     true
                 } else {
@@ -201,12 +199,11 @@ impl Pipeline {
             } else {
                 c.tri_tri += 1;
                 let ct = prepared_c.get(p.primitive_a, || {
-                    let [i, j, k] = indices[p.primitive_a as usize];
-                    Triangle::new(
-                        to_object * self.skin.position(i),
-                        to_object * self.skin.position(j),
-                        to_object * self.skin.position(k),
-                    )
+                    let [i, j, k] = self
+                        .skin
+                        .triangle(indices[p.primitive_a as usize])
+                        .vertices();
+                    Triangle::new(to_object * i, to_object * j, to_object * k)
                 });
                 let ot = prepared_o.get(p.primitive_b, || mesh.triangle(TriangleId(p.primitive_b)));
                 prepared_intersect(ct, ot)
@@ -327,16 +324,13 @@ pub fn detect_characters(
     pairs.clear();
     prepared_a.clear();
     prepared_b.clear();
-    let corners = |skin: &crate::character::OnDemandSkin, [i, j, k]: [u32; 3]| {
-        Triangle::new(skin.position(i), skin.position(j), skin.position(k))
-    };
     for p in leaf_pairs.iter() {
         c.tri_tri += 1;
         let ta = prepared_a.get(p.primitive_a, || {
-            corners(&a.skin, ia[p.primitive_a as usize])
+            a.skin.triangle(ia[p.primitive_a as usize])
         });
         let tb = prepared_b.get(p.primitive_b, || {
-            corners(&b.skin, ib[p.primitive_b as usize])
+            b.skin.triangle(ib[p.primitive_b as usize])
         });
         if prepared_intersect(ta, tb) {
             pairs.push((p.primitive_a, p.primitive_b));

@@ -371,7 +371,7 @@ impl Pipeline {
                 if ahead {
                     self.prefetch_skinning(k, character);
                 }
-                if !self.plane_sphere_leaf(p) {
+                if !self.environment.answers_by_plane(self.method, p.leaf_b) {
                     for v in indices[p.primitive_a as usize] {
                         self.skin.ensure(buffers, character, model, v);
                     }
@@ -391,7 +391,6 @@ impl Pipeline {
         let [prepared_c, prepared_e] = &mut self.prepared;
         prepared_c.clear();
         prepared_e.clear();
-        let by_plane = self.method.big_leaf_test() == LeafTest::PlaneSphere;
         for (k, p) in self.leaf_pairs.iter().enumerate() {
             if ahead {
                 prefetch_narrow(&self.leaf_pairs, &self.repeats, k, env);
@@ -402,8 +401,7 @@ impl Pipeline {
             {
                 continue;
             }
-            // `plane_sphere_leaf`, with `self` borrowed field by field.
-            let hit = if by_plane && self.environment.is_division_leaf(p.leaf_b) {
+            let hit = if self.environment.answers_by_plane(self.method, p.leaf_b) {
                 if self.method.prunes_at_plane() {
                     // Already tested on the way down.
                     true
@@ -415,12 +413,7 @@ impl Pipeline {
             } else {
                 c.tri_tri += 1;
                 let ct = prepared_c.get(p.primitive_a, || {
-                    let [a, b, cc] = indices[p.primitive_a as usize];
-                    crate::geometry::Triangle::new(
-                        self.skin.position(a),
-                        self.skin.position(b),
-                        self.skin.position(cc),
-                    )
+                    self.skin.triangle(indices[p.primitive_a as usize])
                 });
                 let et = prepared_e.get(p.primitive_b, || env.triangle(TriangleId(p.primitive_b)));
                 prepared_intersect(ct, et)
@@ -533,22 +526,6 @@ impl Pipeline {
                 self.skin.prefetch(character, self.options.skinning, v);
             }
         }
-    }
-
-    /// Whether leaf pair `p` is answered by the plane-sphere test (a big
-    /// triangle's division leaf, in a plane-sphere method) rather than by the
-    /// triangle-triangle test.
-    #[inline]
-    fn plane_sphere_leaf(&self, p: &LeafPair) -> bool {
-        self.answers_by_plane(&self.environment, p.leaf_b)
-    }
-
-    /// Whether a leaf pair whose second leaf is `leaf` of `tree` (the room
-    /// or a moving object) is answered by the plane-sphere test: a big
-    /// triangle's division leaf, in a plane-sphere method.
-    #[inline]
-    pub(super) fn answers_by_plane(&self, tree: &EnvironmentTree, leaf: NodeId) -> bool {
-        tree.is_division_leaf(leaf) && self.method.big_leaf_test() == LeafTest::PlaneSphere
     }
 
     /// This frame's overlapping leaf pairs, as traversal handed them to the

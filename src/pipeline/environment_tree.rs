@@ -11,7 +11,7 @@ use crate::mesh::{TriMesh, TriangleId};
 use crate::prefetch::prefetch_at;
 use crate::sphere_tree::{BuildParams, Node, NodeId, SphereTree, build_tree};
 
-use super::Method;
+use super::{LeafTest, Method};
 
 /// Default big-triangle threshold in metres (ours; the paper gives none): a
 /// sub-triangle at most this long has a sphere of a few character leaves.
@@ -262,6 +262,14 @@ impl EnvironmentTree {
     #[inline]
     pub fn is_division_leaf(&self, id: NodeId) -> bool {
         self.leaf_division[id.index()] != NOT_A_DIVISION_LEAF
+    }
+
+    /// Whether `method` answers a leaf pair whose second leaf is `leaf` of
+    /// this tree by the plane-sphere test (a big triangle's division leaf,
+    /// in a plane-sphere method) rather than by the triangle-triangle test.
+    #[inline]
+    pub fn answers_by_plane(&self, method: Method, leaf: NodeId) -> bool {
+        self.is_division_leaf(leaf) && method.big_leaf_test() == LeafTest::PlaneSphere
     }
 
     /// Number of big triangles.

@@ -103,10 +103,7 @@ mod tests {
         let mut made = 0;
         let mut hits = 0;
         for round in 0..4 {
-            if round == 2 {
-                table.clear();
-            }
-            if round == 3 {
+            if round >= 2 {
                 table.clear();
             }
             for id in [1u32, 2, 1, 65, 1, 3, 200, 2] {
