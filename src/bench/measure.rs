@@ -71,8 +71,11 @@ pub struct Bench {
     pub parry_ms_per_frame: f64,
     /// Leaf pairs parry's traversals yielded per frame (mean).
     pub parry_candidates_per_frame: f64,
-    /// Posing (joint matrices, object poses), in every side's time.
+    /// Posing (joint matrices, object poses) on every thread: in the
+    /// baseline's time and each method's, before each of their runs.
     pub pose_ms_per_frame: f64,
+    /// Posing on one thread, in each method's one-thread time.
+    pub pose_ms_per_frame_one_thread: f64,
     /// Skinning every vertex, in the baseline's time.
     pub skinning_all_ms_per_frame: f64,
     pub methods: Vec<MethodBench>,
@@ -117,7 +120,8 @@ pub fn measure(
     world.set_refit_timing(false);
     let mut parry = ParryWorld::new(&world.scene)?;
     let n = world.methods.len();
-    let mut pose_ms = Vec::with_capacity(frames);
+    let mut pose_ms = Vec::with_capacity(frames * (2 * n).max(1));
+    let mut pose_one_ms = Vec::with_capacity(frames * n);
     let mut skin_all_ms = Vec::with_capacity(frames * (2 * n).max(1));
     let mut parry_ms = Vec::with_capacity(frames * (2 * n).max(1));
     let mut parry_candidates = 0u64;
@@ -126,29 +130,35 @@ pub fn measure(
     let mut skin_ms = vec![Vec::with_capacity(frames); n];
     let (mut ops, mut skinned, mut pairs) = (vec![0u64; n], vec![0u64; n], vec![0u64; n]);
     let mut differ = vec![0usize; n];
-    // The baseline's frame on the current pose, its time (posing `pose`
-    // included) and its skinning time recorded.
-    let mut parry_frame = |world: &mut World, parry: &mut ParryWorld, pose: f64| {
+    // The baseline's frame `k`, posed on every thread (its time, posing
+    // included, and its skinning time recorded).
+    let mut parry_frame = |world: &mut World, parry: &mut ParryWorld, k: usize| {
+        world.pose(k);
+        let pose = world.pose_ms;
         let t0 = Instant::now();
         world.skin_all();
         skin_all_ms.push(t0.elapsed().as_secs_f64() * 1e3);
         parry.update(&world.buffers, &world.object_poses)?;
         parry.detect();
         parry_ms.push(pose + t0.elapsed().as_secs_f64() * 1e3);
-        Ok::<(), BenchError>(())
+        Ok::<f64, BenchError>(pose)
     };
     for k in 0..frames {
-        world.pose(k);
-        let pose = world.pose_ms;
-        pose_ms.push(pose);
         for i in 0..n {
             for one_thread in [k % 2 == 0, k % 2 != 0] {
-                parry_frame(&mut world, &mut parry, pose)?;
+                parry_frame(&mut world, &mut parry, k)?;
+                // Posed again after the baseline's frame, as that frame
+                // leaves the caches, on the threads the method runs on.
                 if one_thread {
+                    world.pose_on_one_thread(k);
+                    pose_one_ms.push(world.pose_ms);
                     world.detect_method_on_one_thread(i);
                 } else {
+                    world.pose(k);
+                    pose_ms.push(world.pose_ms);
                     world.detect_method(i);
                 }
+                let pose = world.pose_ms;
                 let o = &world.methods[i].outcome;
                 let ms = pose + o.wall_ms;
                 if one_thread {
@@ -168,7 +178,7 @@ pub fn measure(
         }
         // No method: the baseline still runs once a frame.
         if n == 0 {
-            parry_frame(&mut world, &mut parry, pose)?;
+            pose_ms.push(parry_frame(&mut world, &mut parry, k)?);
         }
         // The same candidates on every run of a frame: counted once.
         parry_candidates += parry.candidates;
@@ -222,6 +232,7 @@ pub fn measure(
         parry_ms_per_frame: parry_median,
         parry_candidates_per_frame: per_frame(parry_candidates),
         pose_ms_per_frame: median(&mut pose_ms),
+        pose_ms_per_frame_one_thread: median(&mut pose_one_ms),
         skinning_all_ms_per_frame: median(&mut skin_all_ms),
         methods,
     })

@@ -23,13 +23,14 @@ impl fmt::Display for BenchTable<'_> {
         writeln!(
             f,
             "{}: {bodies}{} frames, de-duplication {}, median ms per frame on {} threads \
-             (parry3d on one); every row includes posing ({:.3} ms); parry skins all {} \
-             vertices ({:.3} ms), each method only those it tests",
+             (parry3d on one); every row includes posing ({:.3} ms; {:.3} ms in the 1-thread column); \
+             parry skins all {} vertices ({:.3} ms), each method only those it tests",
             b.scenario,
             b.frames,
             if b.dedup { "on" } else { "off" },
             b.threads,
             b.pose_ms_per_frame,
+            b.pose_ms_per_frame_one_thread,
             b.vertices,
             b.skinning_all_ms_per_frame,
         )?;

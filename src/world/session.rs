@@ -38,7 +38,7 @@ use crate::mesh::{EdgeDedup, dedup_edges};
 use crate::pipeline::bodies::{CharacterPairScratch, detect_characters, sphere_in_frame};
 use crate::pipeline::driver::{FrameCounters, Pipeline};
 use crate::pipeline::{EnvironmentTree, Method};
-use crate::scenario::Resolved;
+use crate::scenario::{Actor, Resolved};
 use crate::sphere_tree::NodeId;
 
 use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
@@ -59,6 +59,9 @@ pub struct World {
     pub pose_ms: f64,
     /// Each character's bind vertices' largest distance from its origin.
     bind_reach: Vec<f32>,
+    /// How far each character's vertices may reach from the origin this
+    /// frame ([`PoseBuffers::reach`]).
+    reach: Vec<f32>,
     /// A character posed beyond [`MAX_COORDINATE`] this frame, and how far
     /// (the frame is then not detected).
     out_of_range: Option<(usize, f32)>,
@@ -140,7 +143,7 @@ impl World {
             .map(|a| PoseBuffers::new(&a.character))
             .collect();
         let object_poses = vec![Isometry3::identity(); scene.objects.len()];
-        let bind_reach = scene
+        let bind_reach: Vec<f32> = scene
             .characters
             .iter()
             .map(|a| {
@@ -158,6 +161,7 @@ impl World {
             buffers,
             object_poses,
             pose_ms: 0.0,
+            reach: vec![0.0; bind_reach.len()],
             bind_reach,
             out_of_range: None,
             next: 0,
@@ -204,31 +208,71 @@ impl World {
         self.next = k;
     }
 
-    /// Poses every body for frame `k` (joint matrices and object poses).
-    /// A character whose pose takes a vertex beyond [`MAX_COORDINATE`] (a
-    /// clip with absurd keyframes) is noted ([`World::out_of_range`]) and the
-    /// frame is not detected: such coordinates overflow squared distances.
+    /// Poses every body for frame `k` (joint matrices and object poses),
+    /// the characters side by side on the world's threads (their buffers
+    /// are their own). A character whose pose takes a vertex beyond
+    /// [`MAX_COORDINATE`] (a clip with absurd keyframes) is noted
+    /// ([`World::out_of_range`]) and the frame is not detected: such
+    /// coordinates overflow squared distances.
     pub fn pose(&mut self, k: usize) {
-        let t0 = Instant::now();
-        self.out_of_range = None;
-        for (i, (a, b)) in self
-            .scene
-            .characters
-            .iter()
-            .zip(&mut self.buffers)
-            .enumerate()
-        {
-            a.pose_frame(b, k);
-            let reach = b.reach(self.bind_reach[i]);
-            if !(reach.is_finite() && reach <= MAX_COORDINATE) && self.out_of_range.is_none() {
-                self.out_of_range = Some((i, reach));
+        self.pose_in(k, false);
+    }
+
+    /// Like [`World::pose`] on the calling thread alone (`bench` times a
+    /// one-thread frame with a one-thread pose).
+    pub fn pose_on_one_thread(&mut self, k: usize) {
+        self.pose_in(k, true);
+    }
+
+    fn pose_in(&mut self, k: usize, one_thread: bool) {
+        let World {
+            scene,
+            buffers,
+            object_poses,
+            bind_reach,
+            reach,
+            out_of_range,
+            pool,
+            ..
+        } = self;
+        let actors = &scene.characters;
+        let parallel = !one_thread && actors.len() > 1 && pool.current_num_threads() > 1;
+        let chunk = actors.len().div_ceil(pool.current_num_threads());
+        let mut pose_all = || {
+            let t0 = Instant::now();
+            pose_characters(
+                actors,
+                buffers,
+                bind_reach,
+                reach,
+                k,
+                parallel.then_some(chunk),
+            );
+            *out_of_range = reach
+                .iter()
+                .position(|r| !(r.is_finite() && *r <= MAX_COORDINATE))
+                .map(|i| (i, reach[i]));
+            let t = scene.world_time(k);
+            for (o, p) in scene.objects.iter().zip(object_poses.iter_mut()) {
+                *p = o.motion.pose_at(t);
             }
-        }
-        let t = self.scene.world_time(k);
-        for (o, p) in self.scene.objects.iter().zip(&mut self.object_poses) {
-            *p = o.motion.pose_at(t);
-        }
-        self.pose_ms = t0.elapsed().as_secs_f64() * 1e3;
+            t0.elapsed().as_secs_f64() * 1e3
+        };
+        self.pose_ms = if !parallel || pool.current_thread_index().is_some() {
+            pose_all()
+        } else {
+            // As a frame's passes (see [`with_threads_awake`]): timed once
+            // every thread is awake.
+            let go = AtomicBool::new(false);
+            let mut ms = 0.0;
+            pool.install(|| {
+                with_threads_awake(&go, || {
+                    go.store(true, Ordering::Release);
+                    ms = pose_all();
+                })
+            });
+            ms
+        };
     }
 
     /// Skins every vertex of every character for the current pose (for the
@@ -427,17 +471,19 @@ impl MethodWorld {
         }
         // 1. Each character's frame starts and its root sphere is refit (a
         //    few dozen spheres; the room pass counts them, from the frame's
-        //    start, and would refit them first anyway).
-        for (i, (pipe, s)) in self
-            .characters
-            .iter_mut()
-            .zip(&mut self.per_character)
-            .enumerate()
-        {
-            let pipe = pipe.get_mut().expect("no pass panicked");
-            pipe.begin_frame(&buffers[i]);
-            s.get_mut().expect("no pass panicked").root = pipe.root_sphere(&buffers[i]);
+        //    start, and would refit them first anyway), characters side by
+        //    side on the pool's threads.
+        if let Some(go) = helpers_go {
+            go.store(true, Ordering::Release);
         }
+        let threads = rayon::current_num_threads();
+        let chunk = (threads > 1).then(|| self.characters.len().div_ceil(threads));
+        begin_characters(
+            &mut self.characters,
+            &mut self.per_character,
+            buffers,
+            chunk,
+        );
 
         // 2. The broad phase between characters' root spheres.
         let n = self.characters.len();
@@ -476,9 +522,6 @@ impl MethodWorld {
         let characters = &self.characters;
         let per_character = &self.per_character;
         let pair_scratch = &self.pair_scratch;
-        if let Some(go) = helpers_go {
-            go.store(true, Ordering::Release);
-        }
         self.graph.run(|t, pair| match pair {
             None => {
                 let i = t;
@@ -596,6 +639,69 @@ impl MethodWorld {
         out.total.refits = refits;
         out.total.skinned_vertices = skinned;
         out.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+    }
+}
+
+/// Starts the frame of each character's pipeline and refits its root
+/// sphere into its scratch; with `chunk`, halves of more than `chunk`
+/// characters run side by side on the current pool.
+fn begin_characters(
+    pipes: &mut [Mutex<Pipeline>],
+    scratch: &mut [Mutex<CharacterScratch>],
+    buffers: &[PoseBuffers],
+    chunk: Option<usize>,
+) {
+    match chunk {
+        Some(c) if pipes.len() > c => {
+            let h = pipes.len() / 2;
+            let (p0, p1) = pipes.split_at_mut(h);
+            let (s0, s1) = scratch.split_at_mut(h);
+            let (b0, b1) = buffers.split_at(h);
+            rayon::join(
+                || begin_characters(p0, s0, b0, chunk),
+                || begin_characters(p1, s1, b1, chunk),
+            );
+        }
+        _ => {
+            for ((pipe, s), b) in pipes.iter_mut().zip(scratch).zip(buffers) {
+                let pipe = pipe.get_mut().expect("no pass panicked");
+                pipe.begin_frame(b);
+                s.get_mut().expect("no pass panicked").root = pipe.root_sphere(b);
+            }
+        }
+    }
+}
+
+/// Poses `actors` for frame `k` into `buffers` and notes how far each may
+/// reach; with `chunk`, halves of more than `chunk` characters run side by
+/// side on the current pool (`rayon::join`: nothing is boxed, so nothing
+/// allocates).
+fn pose_characters(
+    actors: &[Actor],
+    buffers: &mut [PoseBuffers],
+    bind_reach: &[f32],
+    reach: &mut [f32],
+    k: usize,
+    chunk: Option<usize>,
+) {
+    match chunk {
+        Some(c) if actors.len() > c => {
+            let h = actors.len() / 2;
+            let (a0, a1) = actors.split_at(h);
+            let (b0, b1) = buffers.split_at_mut(h);
+            let (n0, n1) = bind_reach.split_at(h);
+            let (r0, r1) = reach.split_at_mut(h);
+            rayon::join(
+                || pose_characters(a0, b0, n0, r0, k, chunk),
+                || pose_characters(a1, b1, n1, r1, k, chunk),
+            );
+        }
+        _ => {
+            for (((a, b), n), r) in actors.iter().zip(buffers).zip(bind_reach).zip(reach) {
+                a.pose_frame(b, k);
+                *r = b.reach(*n);
+            }
+        }
     }
 }
 
