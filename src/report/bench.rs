@@ -23,7 +23,7 @@ impl fmt::Display for BenchTable<'_> {
         writeln!(
             f,
             "{}: {bodies}{} frames, de-duplication {}, median ms per frame on {} threads \
-             (parry3d on one); every row includes posing ({:.3} ms; {:.3} ms in the 1-thread column); \
+             (parry3d on one); every row includes posing ({:.3} ms; on one thread {:.3} ms, in the 1-thread column and parry3d's row); \
              parry skins all {} vertices ({:.3} ms), each method only those it tests",
             b.scenario,
             b.frames,
