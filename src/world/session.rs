@@ -38,7 +38,7 @@ use crate::mesh::{EdgeDedup, dedup_edges};
 use crate::pipeline::bodies::{CharacterPairScratch, detect_characters, sphere_in_frame};
 use crate::pipeline::driver::{FrameCounters, Pipeline};
 use crate::pipeline::{EnvironmentTree, Method};
-use crate::scenario::{Actor, Resolved};
+use crate::scenario::Resolved;
 use crate::sphere_tree::NodeId;
 
 use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
@@ -240,14 +240,10 @@ impl World {
         let chunk = actors.len().div_ceil(pool.current_num_threads());
         let mut pose_all = || {
             let t0 = Instant::now();
-            pose_characters(
-                actors,
-                buffers,
-                bind_reach,
-                reach,
-                k,
-                parallel.then_some(chunk),
-            );
+            side_by_side(buffers, reach, 0, parallel.then_some(chunk), &|i, b, r| {
+                actors[i].pose_frame(b, k);
+                *r = b.reach(bind_reach[i]);
+            });
             *out_of_range = reach
                 .iter()
                 .position(|r| !(r.is_finite() && *r <= MAX_COORDINATE))
@@ -478,11 +474,16 @@ impl MethodWorld {
         }
         let threads = rayon::current_num_threads();
         let chunk = (threads > 1).then(|| self.characters.len().div_ceil(threads));
-        begin_characters(
+        side_by_side(
             &mut self.characters,
             &mut self.per_character,
-            buffers,
+            0,
             chunk,
+            &|i, pipe, s| {
+                let pipe = pipe.get_mut().expect("no pass panicked");
+                pipe.begin_frame(&buffers[i]);
+                s.get_mut().expect("no pass panicked").root = pipe.root_sphere(&buffers[i]);
+            },
         );
 
         // 2. The broad phase between characters' root spheres.
@@ -642,64 +643,30 @@ impl MethodWorld {
     }
 }
 
-/// Starts the frame of each character's pipeline and refits its root
-/// sphere into its scratch; with `chunk`, halves of more than `chunk`
-/// characters run side by side on the current pool.
-fn begin_characters(
-    pipes: &mut [Mutex<Pipeline>],
-    scratch: &mut [Mutex<CharacterScratch>],
-    buffers: &[PoseBuffers],
-    chunk: Option<usize>,
-) {
-    match chunk {
-        Some(c) if pipes.len() > c => {
-            let h = pipes.len() / 2;
-            let (p0, p1) = pipes.split_at_mut(h);
-            let (s0, s1) = scratch.split_at_mut(h);
-            let (b0, b1) = buffers.split_at(h);
-            rayon::join(
-                || begin_characters(p0, s0, b0, chunk),
-                || begin_characters(p1, s1, b1, chunk),
-            );
-        }
-        _ => {
-            for ((pipe, s), b) in pipes.iter_mut().zip(scratch).zip(buffers) {
-                let pipe = pipe.get_mut().expect("no pass panicked");
-                pipe.begin_frame(b);
-                s.get_mut().expect("no pass panicked").root = pipe.root_sphere(b);
-            }
-        }
-    }
-}
-
-/// Poses `actors` for frame `k` into `buffers` and notes how far each may
-/// reach; with `chunk`, halves of more than `chunk` characters run side by
+/// Calls `f(i, &mut a[i], &mut b[i])` for every `i` (numbered from
+/// `first`); with `chunk`, halves of more than `chunk` items run side by
 /// side on the current pool (`rayon::join`: nothing is boxed, so nothing
 /// allocates).
-fn pose_characters(
-    actors: &[Actor],
-    buffers: &mut [PoseBuffers],
-    bind_reach: &[f32],
-    reach: &mut [f32],
-    k: usize,
+fn side_by_side<A: Send, B: Send>(
+    a: &mut [A],
+    b: &mut [B],
+    first: usize,
     chunk: Option<usize>,
+    f: &(impl Fn(usize, &mut A, &mut B) + Sync),
 ) {
     match chunk {
-        Some(c) if actors.len() > c => {
-            let h = actors.len() / 2;
-            let (a0, a1) = actors.split_at(h);
-            let (b0, b1) = buffers.split_at_mut(h);
-            let (n0, n1) = bind_reach.split_at(h);
-            let (r0, r1) = reach.split_at_mut(h);
+        Some(c) if a.len() > c => {
+            let h = a.len() / 2;
+            let (a0, a1) = a.split_at_mut(h);
+            let (b0, b1) = b.split_at_mut(h);
             rayon::join(
-                || pose_characters(a0, b0, n0, r0, k, chunk),
-                || pose_characters(a1, b1, n1, r1, k, chunk),
+                || side_by_side(a0, b0, first, chunk, f),
+                || side_by_side(a1, b1, first + h, chunk, f),
             );
         }
         _ => {
-            for (((a, b), n), r) in actors.iter().zip(buffers).zip(bind_reach).zip(reach) {
-                a.pose_frame(b, k);
-                *r = b.reach(*n);
+            for (i, (x, y)) in a.iter_mut().zip(b).enumerate() {
+                f(first + i, x, y);
             }
         }
     }
