@@ -121,8 +121,8 @@ pub fn measure(
     world.set_refit_timing(false);
     let mut parry = ParryWorld::new(&world.scene)?;
     let n = world.methods.len();
-    let mut pose_ms = Vec::with_capacity(frames * (2 * n).max(1));
-    let mut pose_one_ms = Vec::with_capacity(frames * n);
+    let mut pose_ms = Vec::with_capacity(frames * n);
+    let mut pose_one_ms = Vec::with_capacity(frames * n.max(1));
     let mut skin_all_ms = Vec::with_capacity(frames * (2 * n).max(1));
     let mut parry_ms = Vec::with_capacity(frames * (2 * n).max(1));
     let mut parry_candidates = 0u64;

@@ -240,7 +240,7 @@ impl World {
         let chunk = actors.len().div_ceil(pool.current_num_threads());
         let mut pose_all = || {
             let t0 = Instant::now();
-            side_by_side(buffers, reach, 0, parallel.then_some(chunk), &|i, b, r| {
+            side_by_side(buffers, reach, parallel.then_some(chunk), |i, b, r| {
                 actors[i].pose_frame(b, k);
                 *r = b.reach(bind_reach[i]);
             });
@@ -477,9 +477,8 @@ impl MethodWorld {
         side_by_side(
             &mut self.characters,
             &mut self.per_character,
-            0,
             chunk,
-            &|i, pipe, s| {
+            |i, pipe, s| {
                 let pipe = pipe.get_mut().expect("no pass panicked");
                 pipe.begin_frame(&buffers[i]);
                 s.get_mut().expect("no pass panicked").root = pipe.root_sphere(&buffers[i]);
@@ -643,30 +642,25 @@ impl MethodWorld {
     }
 }
 
-/// Calls `f(i, &mut a[i], &mut b[i])` for every `i` (numbered from
-/// `first`); with `chunk`, halves of more than `chunk` items run side by
-/// side on the current pool (`rayon::join`: nothing is boxed, so nothing
-/// allocates).
+/// Calls `f(i, &mut a[i], &mut b[i])` for every `i`; with `chunk`, on the
+/// current pool in pieces of at least `chunk` items (rayon's indexed
+/// iterators split by `join`: nothing is boxed, so nothing allocates).
 fn side_by_side<A: Send, B: Send>(
     a: &mut [A],
     b: &mut [B],
-    first: usize,
     chunk: Option<usize>,
-    f: &(impl Fn(usize, &mut A, &mut B) + Sync),
+    f: impl Fn(usize, &mut A, &mut B) + Sync,
 ) {
     match chunk {
-        Some(c) if a.len() > c => {
-            let h = a.len() / 2;
-            let (a0, a1) = a.split_at_mut(h);
-            let (b0, b1) = b.split_at_mut(h);
-            rayon::join(
-                || side_by_side(a0, b0, first, chunk, f),
-                || side_by_side(a1, b1, first + h, chunk, f),
-            );
-        }
-        _ => {
+        Some(c) => a
+            .par_iter_mut()
+            .zip(b)
+            .enumerate()
+            .with_min_len(c)
+            .for_each(|(i, (x, y))| f(i, x, y)),
+        None => {
             for (i, (x, y)) in a.iter_mut().zip(b).enumerate() {
-                f(first + i, x, y);
+                f(i, x, y);
             }
         }
     }
