@@ -39,6 +39,8 @@ use crate::truth::substep::{StepBodies, SubstepTruth};
 use crate::truth::substep_score::StepPair;
 use crate::world::{ContinuousWorld, MethodOutcome, World};
 
+use super::measure::median;
+
 /// One method's continuous cost.
 #[derive(Clone, Debug, Serialize)]
 pub struct CcdMethodBench {
@@ -99,14 +101,6 @@ pub struct CcdBench {
     pub reference_contacts: usize,
     pub reference_body_pairs: usize,
     pub methods: Vec<CcdMethodBench>,
-}
-
-fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
 }
 
 /// Poses every body of `world` at `t` of the step from `prev` (characters)

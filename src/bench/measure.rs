@@ -82,7 +82,9 @@ pub struct Bench {
     pub methods: Vec<MethodBench>,
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// The median of `v` (the upper one of an even count; 0 when empty),
+/// sorting `v`.
+pub(super) fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return 0.0;
     }
