@@ -17,7 +17,7 @@ use std::hint::black_box;
 use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::{Pipeline, PipelineOptions};
-use cornertree::truth::ParryReference;
+use cornertree_workbench::truth::ParryReference;
 use criterion::{Criterion, criterion_group, criterion_main};
 
 use fixtures::{FrameCycle, scenario};

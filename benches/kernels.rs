@@ -13,7 +13,7 @@ use std::hint::black_box;
 use cornertree::geometry::exact::triangles_intersect_exact;
 use cornertree::geometry::plane_sphere::{TrianglePlane, sphere_meets_plane};
 use cornertree::geometry::{Point, Sphere, Triangle, Vector, edge_crossing, tropp};
-use cornertree::truth::parry_reference::{
+use cornertree_workbench::truth::parry_reference::{
     parry_f64_triangles_intersect, parry_triangle, parry_triangles_intersect,
 };
 use criterion::measurement::WallTime;

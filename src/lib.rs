@@ -24,18 +24,12 @@
 //! `docs/architecture.md` maps every section of the paper to the code.
 
 pub mod bench;
-pub mod big_triangle;
-pub mod character;
 pub mod environment;
-pub mod geometry;
+pub mod humanoid;
 pub mod io;
-pub mod mesh;
-pub mod pipeline;
-pub mod prefetch;
 pub mod record;
 pub mod report;
 pub mod scenario;
-pub mod sphere_tree;
 pub mod study;
 pub mod truth;
 pub mod world;

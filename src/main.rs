@@ -6,7 +6,7 @@ mod cli;
 
 use clap::{Parser, Subcommand};
 use cli::emit;
-use cornertree::record::target::RecordingTarget;
+use cornertree_workbench::record::target::RecordingTarget;
 
 /// Research workbench for real-time collision detection of animated virtual
 /// characters with sphere trees and corner-trees.

@@ -6,8 +6,8 @@
 use std::path::PathBuf;
 
 use cornertree::geometry::ccd_root_finder::DEFAULT_TOLERANCE;
-use cornertree::io::ccd_queries::{QueryKind, find_query_files, read_queries};
-use cornertree::report::ccd_queries::{QueryFile, answer, evaluate, params_for};
+use cornertree_workbench::io::ccd_queries::{QueryKind, find_query_files, read_queries};
+use cornertree_workbench::report::ccd_queries::{QueryFile, answer, evaluate, params_for};
 
 fn queries_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("assets/ccd-queries")

@@ -20,9 +20,10 @@ use cornertree::geometry::ccd_root_finder::CcdParams;
 use cornertree::geometry::ccd_triangles::MovingTriangle;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::continuous_narrow::{CcdCounters, leaf_toi};
-use cornertree::scenario::{Scenario, resolve};
-use cornertree::truth::substep::{MovingCorners, StepBodies};
-use cornertree::world::{CharacterPair, ContinuousWorld, ObjectPair, RoomPair, World};
+use cornertree::world::{CharacterPair, ObjectPair, RoomPair};
+use cornertree_workbench::scenario::{Scenario, resolve};
+use cornertree_workbench::truth::substep::{MovingCorners, StepBodies};
+use cornertree_workbench::world::{ContinuousWorld, World};
 
 const SMALL_WORLD: &str = r#"
 fps = 30

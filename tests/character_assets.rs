@@ -4,10 +4,11 @@
 
 use std::path::Path;
 
-use cornertree::character::{Character, HumanoidParams, SkinningModel, generate_humanoid};
+use cornertree::character::{Character, SkinningModel};
 use cornertree::io::load_character;
-use cornertree::report::animate::{AnimateOptions, animate};
 use cornertree::sphere_tree::refit::RefitRule;
+use cornertree_workbench::humanoid::{HumanoidParams, generate_humanoid};
+use cornertree_workbench::report::animate::{AnimateOptions, animate};
 
 fn asset(name: &str) -> Character {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))

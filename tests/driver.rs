@@ -216,7 +216,7 @@ fn same_inputs_same_counters_and_pairs() {
 #[test]
 fn the_visit_log_changes_no_counter() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
-    let r = cornertree::scenario::open_scenario(&path).unwrap();
+    let r = cornertree_workbench::scenario::open_scenario(&path).unwrap();
     let env = &r.environment.mesh;
     for m in Method::ALL {
         let mut plain = Pipeline::new(&r.first().character, env, m, r.pipeline_options(r.first()));

@@ -6,11 +6,11 @@ use common::{Scratch, base64};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use cornertree::environment::{
+use cornertree::geometry::Point;
+use cornertree_workbench::environment::{
     Environment, LIVING_ROOM_VERTICES, MUSEUM_VERTICES, ObjectKind, SceneError, big_triangles,
     living_room, living_room_scaled, load_scene, museum, museum_scaled,
 };
-use cornertree::geometry::Point;
 
 fn museum0() -> &'static Environment {
     static M: OnceLock<Environment> = OnceLock::new();

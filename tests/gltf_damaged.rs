@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use cornertree::io::{LoadLimits, load_character, load_character_from, load_static_mesh};
-use cornertree::report::animate::{AnimateError, AnimateOptions, animate};
+use cornertree_workbench::report::animate::{AnimateError, AnimateOptions, animate};
 
 fn asset(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -12,7 +12,7 @@ use common::gltf_builder::Builder;
 
 use cornertree::character::{PoseBuffers, SkinningModel};
 use cornertree::io::{AttachedMesh, load_character};
-use cornertree::report::animate::{AnimateOptions, animate};
+use cornertree_workbench::report::animate::{AnimateOptions, animate};
 use nalgebra::{Matrix4, Point3, UnitQuaternion, Vector3, Vector4};
 
 /// A quaternion `[x, y, z, w]` turning `angle` radians about `axis`.

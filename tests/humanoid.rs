@@ -3,15 +3,15 @@
 
 use std::collections::HashMap;
 
-use cornertree::character::humanoid::{BodyPart, HumanoidError, generate_humanoid_parts};
-use cornertree::character::{
-    Character, HumanoidParams, PoseBuffers, SkinningModel, generate_humanoid,
-};
+use cornertree::character::{Character, PoseBuffers, SkinningModel};
 use cornertree::mesh::dedup_edges;
 use cornertree::sphere_tree::BuildParams;
 use cornertree::sphere_tree::character::CharacterTree;
 use cornertree::sphere_tree::containment::VertexSets;
 use cornertree::sphere_tree::refit::{RefitRule, RefitState, Refitter};
+use cornertree_workbench::humanoid::{
+    BodyPart, HumanoidError, HumanoidParams, generate_humanoid, generate_humanoid_parts,
+};
 
 const JOINT_NAMES: [&str; 22] = [
     "pelvis",

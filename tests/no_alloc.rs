@@ -9,7 +9,7 @@ use std::sync::atomic::Ordering;
 use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::Pipeline;
-use cornertree::scenario::open_scenario;
+use cornertree_workbench::scenario::open_scenario;
 
 #[path = "common/counting_alloc.rs"]
 mod counting_alloc;

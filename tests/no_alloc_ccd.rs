@@ -13,8 +13,8 @@ use counting_alloc::ALLOCATIONS;
 
 use cornertree::geometry::ccd_root_finder::CcdParams;
 use cornertree::pipeline::Method;
-use cornertree::scenario::open_scenario;
-use cornertree::world::{ContinuousWorld, World};
+use cornertree_workbench::scenario::open_scenario;
+use cornertree_workbench::world::{ContinuousWorld, World};
 
 /// Every frame of `scenario` (its first `frames`) through the discrete
 /// frame and every method's continuous step, twice: the first pass sizes

@@ -10,15 +10,15 @@ use std::sync::atomic::Ordering;
 mod counting_alloc;
 use counting_alloc::ALLOCATIONS;
 
-use cornertree::scenario::open_scenario;
+use cornertree_workbench::scenario::open_scenario;
 
-/// A world's frames through [`cornertree::world::World`] on `threads`
+/// A world's frames through [`cornertree_workbench::world::World`] on `threads`
 /// threads, the loop inside the world's pool: once to size every buffer (pair lists grow to the most pairs a
 /// frame has), then the same frames again, which must allocate nothing (the
 /// rayon pool's job queues included). Returns the allocations of each frame
 /// of both passes.
 fn world_allocations(scenario: &str, frames: usize, threads: usize) -> (Vec<u64>, Vec<u64>) {
-    use cornertree::world::World;
+    use cornertree_workbench::world::World;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scenario);
     let mut r = open_scenario(&path).unwrap();
     r.frames = frames;

@@ -18,11 +18,11 @@ use cornertree::geometry::Sphere;
 use cornertree::mesh::TriangleId;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::{FrameCounters, Pipeline};
-use cornertree::record::figures::{dedup_example, example_big_triangle};
-use cornertree::record::layout;
-use cornertree::scenario::{Resolved, open_scenario};
 use cornertree::sphere_tree::refit::{OnDemand, RefitState, Refitter};
 use cornertree::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse};
+use cornertree_workbench::record::figures::{dedup_example, example_big_triangle};
+use cornertree_workbench::record::layout;
+use cornertree_workbench::scenario::{Resolved, open_scenario};
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_cornertree"))
@@ -69,7 +69,7 @@ fn mesh_positions() -> rerun::ComponentIdentifier {
 }
 
 /// The pipeline `run` builds for cesium_man.toml, built here from the library.
-fn cesium_pipeline(method: Method) -> (cornertree::scenario::Resolved, Pipeline) {
+fn cesium_pipeline(method: Method) -> (cornertree_workbench::scenario::Resolved, Pipeline) {
     let r = open_scenario(&cesium_scenario()).unwrap();
     let p = Pipeline::new(
         &r.first().character,
@@ -708,10 +708,12 @@ fn figures_reproduce_the_papers_constructions() {
 
 #[test]
 fn figure1_triangle_is_covered_by_its_three_neighbours() {
-    let c = cornertree::character::generate_humanoid(&cornertree::character::HumanoidParams {
-        vertices: 3000,
-        seed: 1,
-    })
+    let c = cornertree_workbench::humanoid::generate_humanoid(
+        &cornertree_workbench::humanoid::HumanoidParams {
+            vertices: 3000,
+            seed: 1,
+        },
+    )
     .unwrap();
     let mesh = &c.mesh;
     let (t, n) = dedup_example(mesh).expect("an example exists");

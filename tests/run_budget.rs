@@ -14,9 +14,9 @@ use std::path::Path;
 use std::sync::atomic::Ordering;
 
 use alloc::{CURRENT, PEAK};
-use cornertree::scenario::{RunLimits, Scenario, resolve_with};
-use cornertree::truth::{FrameTruth, WorldTruth};
-use cornertree::world::World;
+use cornertree_workbench::scenario::{RunLimits, Scenario, resolve_with};
+use cornertree_workbench::truth::{FrameTruth, WorldTruth};
+use cornertree_workbench::world::World;
 
 #[global_allocator]
 static GLOBAL: alloc::Tracking = alloc::Tracking;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
-use cornertree::scenario::{Placement, Resolved, ScenarioError, load_scenario, resolve};
+use cornertree_workbench::scenario::{Placement, Resolved, ScenarioError, load_scenario, resolve};
 
 fn shipped(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::{Duration, Instant};
 
-use cornertree::scenario::budget::{self, cost};
-use cornertree::scenario::{RunLimits, Scenario, load_scenario, resolve, resolve_with};
+use cornertree_workbench::scenario::budget::{self, cost};
+use cornertree_workbench::scenario::{RunLimits, Scenario, load_scenario, resolve, resolve_with};
 
 /// A small single-character scenario: `{GAP}` is the placement's gap.
 const BASE: &str = "[character]

@@ -5,8 +5,8 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use cornertree::scenario::open_scenario;
-use cornertree::world::World;
+use cornertree_workbench::scenario::open_scenario;
+use cornertree_workbench::world::World;
 
 /// FNV-1a over the little-endian bytes of the pairs, as the fixtures' writer.
 fn fnv(pairs: &[(u32, u32)]) -> u64 {

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use cornertree::pipeline::Method;
-use cornertree::study::{Factor, conditions, run_study};
+use cornertree_workbench::study::{Factor, conditions, run_study};
 
 fn scenario() -> PathBuf {
     let dir = std::env::temp_dir().join(format!("cornertree-study-{}", std::process::id()));

@@ -1,4 +1,4 @@
-//! Ground truth (`cornertree::truth`): parry's answer against brute force with
+//! Ground truth (`cornertree_workbench::truth`): parry's answer against brute force with
 //! the exact oracle, the BVH refit across poses, accuracy arithmetic and the
 //! classification of disagreements. Counts are printed
 //! (`cargo test --test truth -- --nocapture`).
@@ -9,11 +9,11 @@ use common::{soup, uv_sphere};
 use cornertree::geometry::exact::{Contact, classify};
 use cornertree::geometry::{Point, Triangle, Vector};
 use cornertree::mesh::{TriMesh, TriangleId};
-use cornertree::truth::disagreement::{
+use cornertree_workbench::truth::disagreement::{
     classify_pair, compare, degeneracy, differences, separation_depth,
 };
-use cornertree::truth::parry_reference::{parry_triangle, parry_triangles_intersect};
-use cornertree::truth::{
+use cornertree_workbench::truth::parry_reference::{parry_triangle, parry_triangles_intersect};
+use cornertree_workbench::truth::{
     Accuracy, AccuracyTotals, FrameAccuracy, Kind, ParryReference, Tolerances, TruthError,
     brute_force_pairs, triangle_distance,
 };

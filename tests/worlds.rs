@@ -6,9 +6,10 @@
 use std::path::Path;
 
 use cornertree::pipeline::Method;
-use cornertree::scenario::{Scenario, open_scenario};
-use cornertree::truth::WorldTruth;
-use cornertree::world::{PairKind, World};
+use cornertree::world::PairKind;
+use cornertree_workbench::scenario::{Scenario, open_scenario};
+use cornertree_workbench::truth::WorldTruth;
+use cornertree_workbench::world::World;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use cornertree::scenario::{Resolved, open_scenario};
+use cornertree_workbench::scenario::{Resolved, open_scenario};
 
 /// `scenarios/<name>.toml` of this repository, resolved (assets loaded,
 /// placement solved).

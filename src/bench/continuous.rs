@@ -30,14 +30,14 @@ use std::time::Instant;
 use nalgebra::{Isometry3, Matrix4};
 use serde::Serialize;
 
-use crate::character::PoseBuffers;
-use crate::geometry::Point;
-use crate::geometry::ccd_root_finder::CcdParams;
-use crate::pipeline::Method;
 use crate::scenario::Resolved;
 use crate::truth::substep::{StepBodies, SubstepTruth};
 use crate::truth::substep_score::StepPair;
 use crate::world::{ContinuousWorld, MethodOutcome, World};
+use cornertree::character::PoseBuffers;
+use cornertree::geometry::Point;
+use cornertree::geometry::ccd_root_finder::CcdParams;
+use cornertree::pipeline::Method;
 
 use super::measure::median;
 
@@ -360,7 +360,8 @@ pub fn measure_ccd(
         } else {
             (1..=max_k).find(|&k| tally(&mut world, k, &mut found).2)
         };
-        let exact = world.methods[i].method.big_leaf_test() == crate::pipeline::LeafTest::TriTri;
+        let exact =
+            world.methods[i].method.big_leaf_test() == cornertree::pipeline::LeafTest::TriTri;
         let mut tried = Vec::new();
         let mut answer = None;
         for k in 1..=max_k {

@@ -21,10 +21,10 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::pipeline::Method;
 use crate::scenario::Resolved;
 use crate::truth::{ParryWorld, TruthError};
 use crate::world::{MethodOutcome, World};
+use cornertree::pipeline::Method;
 
 /// One method's measurement.
 #[derive(Clone, Debug, Serialize)]

@@ -4,13 +4,13 @@
 
 use std::path::Path;
 
-use crate::character::HumanoidParams;
-use crate::geometry::bounds_of;
+use crate::humanoid::HumanoidParams;
 use crate::io::CharacterSource;
 use crate::scenario::{
     CharacterEntry, CharacterSection, EnvironmentSection, Gap, Placement, Resolved, Scenario,
     ScenarioError, WalkPath, resolve,
 };
+use cornertree::geometry::bounds_of;
 
 fn base_dir(base: &Path) -> &Path {
     base.parent().unwrap_or(Path::new(""))
@@ -102,7 +102,7 @@ fn free_slots(env: &crate::environment::Environment) -> Vec<(f32, f32, usize)> {
     let Some((lo, hi)) = bounds_of(env.mesh.positions().iter().copied()) else {
         return Vec::new();
     };
-    let obstacles: Vec<(crate::geometry::Point, crate::geometry::Point)> = env
+    let obstacles: Vec<(cornertree::geometry::Point, cornertree::geometry::Point)> = env
         .objects
         .iter()
         .filter(|o| {

@@ -3,8 +3,9 @@
 
 use std::path::PathBuf;
 
+use cornertree::choice::{Choice, parse_choice};
 use cornertree::pipeline::Method;
-use cornertree::scenario::Resolved;
+use cornertree_workbench::scenario::Resolved;
 
 /// Which scenario to play, how much of it, and where the JSON report goes.
 #[derive(clap::Args, Clone, Debug)]
@@ -15,7 +16,7 @@ pub struct ScenarioArgs {
     pub scenario: PathBuf,
     /// Play only this method (repeat for several); default: the scenario's
     /// methods (`bench` and `scaling`: every method).
-    #[arg(long = "method", value_enum)]
+    #[arg(long = "method", value_parser = choice::<Method>())]
     pub methods: Vec<Method>,
     /// Play this many frames instead of the scenario's (`scaling`: frames per
     /// configuration, default 16).
@@ -105,4 +106,17 @@ pub fn parse_offset(s: &str) -> Result<[f32; 3], String> {
         *o = x;
     }
     Ok(out)
+}
+
+/// A parser of one of the library's named options ([`Choice`]: methods,
+/// skinning models, refit rules): its names are the possible values, each
+/// with its one-line summary in `--help`.
+pub fn choice<T: Choice + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new(
+        T::ALL
+            .iter()
+            .map(|v| PossibleValue::new(v.name()).help(v.summary())),
+    )
+    .map(|name| parse_choice::<T>(&name).expect("clap accepts only the possible values"))
 }

@@ -1,13 +1,13 @@
 //! `cornertree bench`: each method's cost per frame against the parry3d
 //! baseline, in one run (command-line plumbing; the work is in
-//! [`cornertree::bench`]).
+//! [`cornertree_workbench::bench`]).
 
 use anyhow::Context;
-use cornertree::bench::continuous::measure_ccd;
-use cornertree::bench::{Bench, measure};
-use cornertree::report::bench::BenchTable;
-use cornertree::report::ccd_bench::CcdBenchTable;
-use cornertree::scenario::{Resolved, open_scenario, scenario_name};
+use cornertree_workbench::bench::continuous::measure_ccd;
+use cornertree_workbench::bench::{Bench, measure};
+use cornertree_workbench::report::bench::BenchTable;
+use cornertree_workbench::report::ccd_bench::CcdBenchTable;
+use cornertree_workbench::scenario::{Resolved, open_scenario, scenario_name};
 
 use super::args::ScenarioArgs;
 

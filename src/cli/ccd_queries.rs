@@ -7,8 +7,8 @@ use std::path::PathBuf;
 use anyhow::Context;
 
 use cornertree::geometry::ccd_root_finder::DEFAULT_TOLERANCE;
-use cornertree::io::ccd_queries::{QueryKind, find_query_files, read_queries};
-use cornertree::report::ccd_queries::{QueryFile, evaluate};
+use cornertree_workbench::io::ccd_queries::{QueryKind, find_query_files, read_queries};
+use cornertree_workbench::report::ccd_queries::{QueryFile, evaluate};
 
 #[derive(clap::Args)]
 pub struct CcdQueriesArgs {

@@ -2,9 +2,10 @@
 //! truth, no recording (command-line plumbing; the frame loop is
 //! [`super::play`]).
 
+use super::args::choice;
 use cornertree::character::SkinningModel;
 use cornertree::pipeline::Method;
-use cornertree::record::target::RecordingTarget;
+use cornertree_workbench::record::target::RecordingTarget;
 
 use super::args::ScenarioArgs;
 use super::play::{DEFAULT_BUDGET_GIB, PlayArgs, Style, play};
@@ -18,7 +19,7 @@ pub struct CompareArgs {
     pub markdown: bool,
     /// Skinning model, whatever the scenario says: `paper` (§3's one-joint
     /// model) or `linear` (glTF linear blend skinning).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = choice::<SkinningModel>())]
     pub skinning: Option<SkinningModel>,
     /// Threads for the characters and body pairs of a frame (0: one per
     /// core). Counters and pairs do not depend on it.

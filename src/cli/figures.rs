@@ -12,7 +12,7 @@ pub struct FiguresArgs {
 }
 
 pub fn figures(args: FiguresArgs) -> anyhow::Result<()> {
-    let written = cornertree::record::figures::write_figures(&args.out)?;
+    let written = cornertree_workbench::record::figures::write_figures(&args.out)?;
     let mut out = String::new();
     for f in &written {
         out += &format!("{}: {}\n", f.name, f.path.display());

@@ -2,14 +2,17 @@
 //! `--animate`, refit checked over a clip (command-line plumbing; the work is
 //! in `report::inspect` and `report::animate`).
 
+use super::args::choice;
 use anyhow::Context;
-use cornertree::character::{Character, SkinningModel, generate_humanoid};
-use cornertree::io::{CharacterSource, load_character, load_static_mesh};
+use cornertree::character::{Character, SkinningModel};
+use cornertree::io::{load_character, load_static_mesh};
 use cornertree::mesh::TriMesh;
-use cornertree::report::animate::{AnimateOptions, RefitReport, animate};
-use cornertree::report::inspect::{InspectOptions, inspect_mesh};
 use cornertree::sphere_tree::BuildParams;
 use cornertree::sphere_tree::refit::RefitRule;
+use cornertree_workbench::humanoid::generate_humanoid;
+use cornertree_workbench::io::CharacterSource;
+use cornertree_workbench::report::animate::{AnimateOptions, RefitReport, animate};
+use cornertree_workbench::report::inspect::{InspectOptions, inspect_mesh};
 
 use super::args::{parse_offset, parse_positive};
 use super::emit;
@@ -42,14 +45,14 @@ pub struct InspectArgs {
     #[arg(long, default_value_t = 30.0, requires = "animate", value_parser = parse_positive)]
     pub fps: f32,
     /// Skinning model: glTF linear blend skinning, or the paper's one-joint model.
-    #[arg(long, value_enum, default_value = "linear", requires = "animate")]
+    #[arg(long, value_parser = choice::<SkinningModel>(), default_value = "linear", requires = "animate")]
     pub skinning: SkinningModel,
     /// How spheres are refit: the paper's corner rule (§3), or joint balls
     /// (ours: a ball per joint over the vertices it moves, moved by that
     /// joint; what pruned-tri-tri and undivided-pruned-tri-tri use).
     #[arg(
         long,
-        value_enum,
+        value_parser = choice::<RefitRule>(),
         default_value = "paper-corners",
         requires = "animate"
     )]

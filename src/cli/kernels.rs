@@ -1,7 +1,7 @@
 //! `cornertree kernels`: operations charged and paid per kernel, and time per
 //! test (command-line plumbing; the work is in `report::kernels`).
 
-use cornertree::report::kernels::measure_kernels;
+use cornertree_workbench::report::kernels::measure_kernels;
 
 #[derive(clap::Args)]
 pub struct KernelsArgs {

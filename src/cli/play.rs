@@ -12,21 +12,21 @@ use cornertree::character::SkinningModel;
 use cornertree::pipeline::LeafTest;
 use cornertree::pipeline::Method;
 use cornertree::pipeline::driver::Pipeline;
-use cornertree::record::blueprint::{ccd_blueprint, run_blueprint, world_blueprint};
-use cornertree::record::layout;
-use cornertree::record::target::RecordingTarget;
-use cornertree::record::world_recorder;
-use cornertree::record::{RecordOptions, RunRecorder, SceneInfo, WorldRecorder};
-use cornertree::report::run::TruthRecord;
-use cornertree::report::run::{
+use cornertree_workbench::record::blueprint::{ccd_blueprint, run_blueprint, world_blueprint};
+use cornertree_workbench::record::layout;
+use cornertree_workbench::record::target::RecordingTarget;
+use cornertree_workbench::record::world_recorder;
+use cornertree_workbench::record::{RecordOptions, RunRecorder, SceneInfo, WorldRecorder};
+use cornertree_workbench::report::run::TruthRecord;
+use cornertree_workbench::report::run::{
     FrameRecord, MethodRun, Summary, SummaryBuilder, SummaryTable, WorldFrameRecord,
 };
-use cornertree::scenario::budget::RunBudget;
-use cornertree::scenario::ranges::MAX_FRAMES;
-use cornertree::scenario::{Resolved, RunLimits, open_scenario_within, scenario_name};
-use cornertree::truth::WorldTruth;
-use cornertree::truth::{FrameTruth, MethodContext};
-use cornertree::world::{ContinuousWorld, World};
+use cornertree_workbench::scenario::budget::RunBudget;
+use cornertree_workbench::scenario::ranges::MAX_FRAMES;
+use cornertree_workbench::scenario::{Resolved, RunLimits, open_scenario_within, scenario_name};
+use cornertree_workbench::truth::WorldTruth;
+use cornertree_workbench::truth::{FrameTruth, MethodContext};
+use cornertree_workbench::world::{ContinuousWorld, World};
 
 use super::args::ScenarioArgs;
 use super::play_ccd::ContinuousObserver;
@@ -758,8 +758,8 @@ pub fn pose_out_of_range(
         "{}: character {:?}: frame {k}: its clip takes vertices up to {} m from the origin, beyond the {} accepted for coordinates",
         scenario.display(),
         scene.characters[c].name,
-        cornertree::scenario::ranges::show_f32(reach),
-        cornertree::scenario::ranges::show_f32(cornertree::io::limits::MAX_COORDINATE)
+        cornertree_workbench::scenario::ranges::show_f32(reach),
+        cornertree_workbench::scenario::ranges::show_f32(cornertree::io::limits::MAX_COORDINATE)
     )
 }
 
@@ -783,7 +783,7 @@ fn dump_frame(
     env: &cornertree::mesh::TriMesh,
     truth: Option<&mut FrameTruth>,
 ) -> anyhow::Result<()> {
-    use cornertree::io::ply::write_ply;
+    use cornertree_workbench::io::ply::write_ply;
     std::fs::create_dir_all(dir)?;
     write_ply(&dir.join("avatar.ply"), positions, character.mesh.indices())?;
     write_ply(&dir.join("environment.ply"), env.positions(), env.indices())?;

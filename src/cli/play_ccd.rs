@@ -5,13 +5,13 @@
 
 use cornertree::geometry::Point;
 use cornertree::geometry::ccd_root_finder::CcdParams;
-use cornertree::record::ccd_recorder::{CcdRecorder, StepView};
-use cornertree::report::continuous::{
+use cornertree_workbench::record::ccd_recorder::{CcdRecorder, StepView};
+use cornertree_workbench::report::continuous::{
     ContinuousFrameRecord, ContinuousTotals, discrete_step_pairs,
 };
-use cornertree::truth::substep::{StepBodies, SubstepTruth};
-use cornertree::truth::substep_score::{StepPair, score_step};
-use cornertree::world::{ContinuousWorld, World};
+use cornertree_workbench::truth::substep::{StepBodies, SubstepTruth};
+use cornertree_workbench::truth::substep_score::{StepPair, score_step};
+use cornertree_workbench::world::{ContinuousWorld, World};
 use nalgebra::Isometry3;
 
 /// Continuous detection beside a run.

@@ -3,9 +3,10 @@
 
 use std::path::PathBuf;
 
+use super::args::choice;
 use clap::parser::ValueSource;
 use cornertree::character::SkinningModel;
-use cornertree::record::target::RecordingTarget;
+use cornertree_workbench::record::target::RecordingTarget;
 
 use super::args::ScenarioArgs;
 use super::play::{DEFAULT_BUDGET_GIB, PlayArgs, Style, play};
@@ -16,7 +17,7 @@ pub struct RunArgs {
     pub common: ScenarioArgs,
     /// Skinning model, whatever the scenario says: `paper` (§3's one-joint
     /// model) or `linear` (glTF linear blend skinning).
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = choice::<SkinningModel>())]
     pub skinning: Option<SkinningModel>,
     /// Skip the ground truth (exact pairs on parry's broad phase, and parry's
     /// own answer) and the accuracy columns; faster on big scenes.

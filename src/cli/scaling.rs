@@ -1,12 +1,12 @@
 //! `cornertree scaling`: cost per frame against character size, room size,
 //! the number of characters and the depth of contact (docs/performance.md), each configuration
 //! measured as `bench` measures (command-line plumbing; the variants are
-//! [`cornertree::bench::variants`]).
+//! [`cornertree_workbench::bench::variants`]).
 
 use anyhow::Context;
-use cornertree::bench::{Bench, variants};
-use cornertree::report::bench::{Column, scaling_table};
-use cornertree::scenario::{Resolved, load_scenario, scenario_name};
+use cornertree_workbench::bench::{Bench, variants};
+use cornertree_workbench::report::bench::{Column, scaling_table};
+use cornertree_workbench::scenario::{Resolved, load_scenario, scenario_name};
 use serde::Serialize;
 
 use super::args::ScenarioArgs;

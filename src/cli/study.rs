@@ -1,12 +1,13 @@
 //! `cornertree plane-sphere-study`: command-line plumbing for
-//! [`cornertree::study::run_study`].
+//! [`cornertree_workbench::study::run_study`].
 
 use std::path::PathBuf;
 
+use super::args::choice;
 use anyhow::Context;
 use cornertree::pipeline::Method;
-use cornertree::report::study::StudyTable;
-use cornertree::study::run_study;
+use cornertree_workbench::report::study::StudyTable;
+use cornertree_workbench::study::run_study;
 
 #[derive(clap::Args)]
 pub struct StudyArgs {
@@ -15,7 +16,7 @@ pub struct StudyArgs {
     #[arg(default_values = ["scenarios/museum.toml", "scenarios/living_room.toml"])]
     pub scenarios: Vec<PathBuf>,
     /// Methods to play under every condition (repeat for several).
-    #[arg(long = "method", value_enum, default_values = ["plane-sphere", "plane-sphere-pruned"])]
+    #[arg(long = "method", value_parser = choice::<Method>(), default_values = ["plane-sphere", "plane-sphere-pruned"])]
     pub methods: Vec<Method>,
     /// Play this many frames of each condition instead of the scenario's.
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]

@@ -25,11 +25,11 @@ pub struct TablesArgs {
 }
 
 pub fn tables(args: TablesArgs) -> anyhow::Result<()> {
-    use cornertree::environment::{living_room, museum};
+    use cornertree_workbench::environment::{living_room, museum};
     let (m, l) = (museum(args.seed), living_room(args.seed));
     let scene = match &args.scene {
         Some(path) => {
-            let (env, report) = cornertree::environment::load_scene(path)?;
+            let (env, report) = cornertree_workbench::environment::load_scene(path)?;
             if report.degenerate_removed > 0 {
                 eprintln!(
                     "note: {}: {} degenerate triangles left out (first: {:?})",
@@ -46,7 +46,11 @@ pub fn tables(args: TablesArgs) -> anyhow::Result<()> {
     if let Some(env) = &scene {
         rooms.push(("scene", env));
     }
-    let report = cornertree::report::tables::tables(&rooms, args.threshold, BuildParams::default());
+    let report = cornertree_workbench::report::tables::tables(
+        &rooms,
+        args.threshold,
+        BuildParams::default(),
+    );
     if args.json {
         emit(&(serde_json::to_string(&report)? + "\n"))
     } else {

@@ -17,8 +17,8 @@ use std::f32::consts::{FRAC_PI_2, TAU};
 use nalgebra::{Isometry3, Translation3, UnitQuaternion};
 
 use super::{EnvObject, Environment, EnvironmentError, ObjectKind, RigidMotion};
-use crate::geometry::{Point, Vector};
-use crate::mesh::TriMesh;
+use cornertree::geometry::{Point, Vector};
+use cornertree::mesh::TriMesh;
 
 /// Most vertices a generated room may have.
 pub const MAX_VERTICES: usize = 20_000_000;

@@ -9,7 +9,7 @@ use super::build::{
 };
 use super::museum::{door, door_motion, wall_with_door};
 use super::{Environment, EnvironmentError, ObjectKind};
-use crate::geometry::Point;
+use cornertree::geometry::Point;
 
 /// The paper's living-room size (§6).
 pub const LIVING_ROOM_VERTICES: usize = 133_139;

@@ -69,8 +69,8 @@ use std::ops::Range;
 
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion};
 
-use crate::geometry::{Point, Real, Vector};
-use crate::mesh::{TriMesh, TriangleId};
+use cornertree::geometry::{Point, Real, Vector};
+use cornertree::mesh::{TriMesh, TriangleId};
 
 pub use build::MAX_VERTICES;
 pub use living_room::{LIVING_ROOM_VERTICES, living_room, living_room_scaled};

@@ -10,7 +10,7 @@ use super::build::{
     ellipsoid_keys, fit, lathe_keys, lying, p, quad, sweep, upright, v,
 };
 use super::{Environment, EnvironmentError, ObjectKind, RigidMotion};
-use crate::geometry::{Point, Vector};
+use cornertree::geometry::{Point, Vector};
 
 /// The paper's museum size (§6).
 pub const MUSEUM_VERTICES: usize = 9_482;

@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use super::{EnvObject, Environment, ObjectKind};
-use crate::io::{LoadError, LoadLimits, LoadReport, load_static_mesh_with};
-use crate::mesh::{MeshError, TriMesh};
+use cornertree::io::{LoadError, LoadLimits, LoadReport, load_static_mesh_with};
+use cornertree::mesh::{MeshError, TriMesh};
 
 /// How many removed triangles [`SceneReport::first_degenerate`] lists.
 pub const LISTED_DEGENERATE: usize = 8;

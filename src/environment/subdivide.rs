@@ -11,8 +11,8 @@
 use std::collections::HashMap;
 
 use super::{EnvObject, Environment};
-use crate::geometry::{Point, Real, Triangle};
-use crate::mesh::{TriMesh, TriangleId};
+use cornertree::geometry::{Point, Real, Triangle};
+use cornertree::mesh::{TriMesh, TriangleId};
 
 /// Most triangles one object may be split into (`4^times` per triangle).
 pub const MAX_SUBDIVIDED_TRIANGLES: usize = 4_000_000;
@@ -188,7 +188,7 @@ mod tests {
         let area = |env: &crate::environment::Environment, o: &crate::environment::EnvObject| {
             o.triangles
                 .clone()
-                .map(|t| env.mesh.triangle(crate::mesh::TriangleId(t)).area() as f64)
+                .map(|t| env.mesh.triangle(cornertree::mesh::TriangleId(t)).area() as f64)
                 .sum::<f64>()
         };
         assert!((area(&room, &wall) - area(&split, new_wall)).abs() < 1e-3);
@@ -199,8 +199,13 @@ mod tests {
                 assert_eq!(a.triangles.len(), b.triangles.len());
                 for (ta, tb) in a.triangles.clone().zip(b.triangles.clone()) {
                     assert_eq!(
-                        room.mesh.triangle(crate::mesh::TriangleId(ta)).vertices(),
-                        split.mesh.triangle(crate::mesh::TriangleId(tb)).vertices()
+                        room.mesh
+                            .triangle(cornertree::mesh::TriangleId(ta))
+                            .vertices(),
+                        split
+                            .mesh
+                            .triangle(cornertree::mesh::TriangleId(tb))
+                            .vertices()
                     );
                 }
             }

@@ -8,7 +8,7 @@
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use crate::geometry::Point;
+use cornertree::geometry::Point;
 
 /// Writes `positions` and `indices` to `path` as an ASCII PLY file.
 pub fn write_ply(path: &Path, positions: &[Point], indices: &[[u32; 3]]) -> std::io::Result<()> {

@@ -5,7 +5,7 @@ use std::fmt;
 use std::path::PathBuf;
 use std::str::FromStr;
 
-use crate::character::HumanoidParams;
+use crate::humanoid::HumanoidParams;
 
 /// A character source as given on the command line or in a scenario.
 #[derive(Clone, Debug, PartialEq)]

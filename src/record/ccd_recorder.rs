@@ -15,13 +15,13 @@ use rerun::RecordingStream;
 
 use super::layout;
 use super::world_recorder::body_entity;
-use crate::geometry::Point;
-use crate::pipeline::continuous::CharacterSweep;
 use crate::scenario::Resolved;
-use crate::sphere_tree::character::CharacterTree;
-use crate::sphere_tree::swept::SphereSweep;
 use crate::truth::substep_score::StepPair;
-use crate::world::ContinuousOutcome;
+use cornertree::geometry::Point;
+use cornertree::pipeline::continuous::CharacterSweep;
+use cornertree::sphere_tree::character::CharacterTree;
+use cornertree::sphere_tree::swept::SphereSweep;
+use cornertree::world::ContinuousOutcome;
 
 /// Pairs shown at the time of impact: those whose own time of impact is
 /// within this fraction of the step after it.

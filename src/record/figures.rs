@@ -15,13 +15,13 @@ use rerun::RecordingStream;
 use super::blueprint::figure_blueprint;
 use super::layout::{self, Rgba};
 use super::run_recorder::{mesh3d, soup};
-use crate::big_triangle::hierarchy::MAX_LEVELS;
-use crate::big_triangle::{Division, DivisionKind, SubTriangle};
-use crate::character::{HumanoidParams, generate_humanoid};
-use crate::geometry::enclosing::triangle_sphere;
-use crate::geometry::{Point, Sphere, Triangle};
-use crate::mesh::dedup::{triangle_edges, weld_positions};
-use crate::mesh::{TriMesh, TriangleId, dedup_edges};
+use crate::humanoid::{HumanoidParams, generate_humanoid};
+use cornertree::big_triangle::hierarchy::MAX_LEVELS;
+use cornertree::big_triangle::{Division, DivisionKind, SubTriangle};
+use cornertree::geometry::enclosing::triangle_sphere;
+use cornertree::geometry::{Point, Sphere, Triangle};
+use cornertree::mesh::dedup::{triangle_edges, weld_positions};
+use cornertree::mesh::{TriMesh, TriangleId, dedup_edges};
 
 /// One written figure.
 #[derive(Debug, Clone, serde::Serialize)]

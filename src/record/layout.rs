@@ -1,7 +1,7 @@
 //! Entity paths and colours shared by the recorders, the blueprint, the tests
 //! and docs/recordings.md.
 
-use crate::sphere_tree::SphereTree;
+use cornertree::sphere_tree::SphereTree;
 
 /// Timeline of frame numbers (sequence).
 pub const FRAME: &str = "frame";
@@ -82,12 +82,12 @@ pub const KIND_COUNTERS: [&str; 5] = [
 ];
 
 /// `stats/<counter>/<kind>`.
-pub fn kind_counter_path(kind: crate::world::PairKind, counter: &str) -> String {
+pub fn kind_counter_path(kind: cornertree::world::PairKind, counter: &str) -> String {
     format!("{STATS}/{counter}/{}", kind.name())
 }
 
 /// `stats/accuracy/<kind>/<precision|recall>`.
-pub fn kind_accuracy_path(kind: crate::world::PairKind, what: &str) -> String {
+pub fn kind_accuracy_path(kind: cornertree::world::PairKind, what: &str) -> String {
     format!("{STATS}/accuracy/{}/{what}", kind.name())
 }
 

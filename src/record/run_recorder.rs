@@ -5,13 +5,13 @@ use nalgebra::Matrix4;
 use rerun::RecordingStream;
 
 use super::layout::{self, Rgba};
-use crate::character::{Character, PoseBuffers};
-use crate::geometry::{Point, Sphere};
-use crate::mesh::TriMesh;
-use crate::pipeline::LeafTest;
-use crate::pipeline::driver::{FrameCounters, Pipeline};
-use crate::sphere_tree::NodeId;
-use crate::sphere_tree::refit::{RefitState, Refitter};
+use cornertree::character::{Character, PoseBuffers};
+use cornertree::geometry::{Point, Sphere};
+use cornertree::mesh::TriMesh;
+use cornertree::pipeline::LeafTest;
+use cornertree::pipeline::driver::{FrameCounters, Pipeline};
+use cornertree::sphere_tree::NodeId;
+use cornertree::sphere_tree::refit::{RefitState, Refitter};
 
 /// What to put in a run's recording.
 #[derive(Clone, Copy, Debug)]
@@ -219,7 +219,7 @@ impl RunRecorder {
         let joint = |m: &Matrix4<f32>| [m[(0, 3)], m[(1, 3)], m[(2, 3)]];
         let bones: Vec<[[f32; 3]; 2]> = (0..character.skeleton.len())
             .filter_map(|j| {
-                let id = crate::character::JointId(j as u16);
+                let id = cornertree::character::JointId(j as u16);
                 character
                     .skeleton
                     .parent(id)

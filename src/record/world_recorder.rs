@@ -15,13 +15,13 @@ use rerun::RecordingStream;
 
 use super::layout::{self, Rgba};
 use super::run_recorder::{RecordOptions, SceneInfo, mesh3d, points, spheres_by_level};
-use crate::character::{JointId, PoseBuffers};
-use crate::geometry::Point;
-use crate::pipeline::driver::FrameCounters;
 use crate::scenario::Resolved;
-use crate::sphere_tree::NodeId;
 use crate::truth::WorldPairs;
 use crate::world::{MethodOutcome, MethodWorld, PairKind};
+use cornertree::character::{JointId, PoseBuffers};
+use cornertree::geometry::Point;
+use cornertree::pipeline::driver::FrameCounters;
+use cornertree::sphere_tree::NodeId;
 
 /// A body's entity name: its index (so entities sort as the scenario lists
 /// them) and its name with anything but letters, digits, `-` and `_` made `_`.
@@ -496,16 +496,16 @@ impl WorldRecorder {
 
 /// The pairs of every kind, borrowed.
 struct PairsOf<'a> {
-    environment: &'a [crate::world::RoomPair],
-    objects: &'a [crate::world::ObjectPair],
-    characters: &'a [crate::world::CharacterPair],
+    environment: &'a [cornertree::world::RoomPair],
+    objects: &'a [cornertree::world::ObjectPair],
+    characters: &'a [cornertree::world::CharacterPair],
 }
 
 /// The pairs of every kind, owned.
 struct OwnedPairs {
-    environment: Vec<crate::world::RoomPair>,
-    objects: Vec<crate::world::ObjectPair>,
-    characters: Vec<crate::world::CharacterPair>,
+    environment: Vec<cornertree::world::RoomPair>,
+    objects: Vec<cornertree::world::ObjectPair>,
+    characters: Vec<cornertree::world::CharacterPair>,
 }
 
 /// Items of sorted `a` not in sorted `b`.

@@ -26,15 +26,15 @@ use serde::Serialize;
 
 use nalgebra::{Matrix4, Vector3};
 
-use crate::character::{Character, Clip, PoseBuffers, SkinningModel, UnknownClip};
-use crate::geometry::Point;
-use crate::geometry::enclosing::points_sphere;
-use crate::io::limits::MAX_COORDINATE;
-use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
-use crate::sphere_tree::character::CharacterTree;
-use crate::sphere_tree::containment::VertexSets;
-use crate::sphere_tree::refit::{OnDemand, RefitRule, RefitState, Refitter};
-use crate::sphere_tree::{BuildParams, SphereTree, Workspace, build_tree, traverse};
+use cornertree::character::{Character, Clip, PoseBuffers, SkinningModel, UnknownClip};
+use cornertree::geometry::Point;
+use cornertree::geometry::enclosing::points_sphere;
+use cornertree::io::limits::MAX_COORDINATE;
+use cornertree::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
+use cornertree::sphere_tree::character::CharacterTree;
+use cornertree::sphere_tree::containment::VertexSets;
+use cornertree::sphere_tree::refit::{OnDemand, RefitRule, RefitState, Refitter};
+use cornertree::sphere_tree::{BuildParams, SphereTree, Workspace, build_tree, traverse};
 
 /// Settings of an animated inspection.
 #[derive(Clone, Debug)]
@@ -330,7 +330,7 @@ fn ms(t0: Instant) -> f64 {
 /// A square grid floor (Y up) just under the lowest vertex, twice the
 /// character's footprint, in cells of about 2% of the model size.
 fn floor_under(positions: &[Point], size: f32) -> SphereTree {
-    let (lo, hi) = crate::geometry::bounds_of(positions.iter().copied())
+    let (lo, hi) = cornertree::geometry::bounds_of(positions.iter().copied())
         .expect("a posed character has vertices");
     let cx = 0.5 * (lo.x + hi.x);
     let cz = 0.5 * (lo.z + hi.z);

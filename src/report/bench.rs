@@ -4,7 +4,7 @@
 use std::fmt;
 
 use crate::bench::Bench;
-use crate::pipeline::Method;
+use cornertree::pipeline::Method;
 
 /// One measurement as a text table: the baseline, then every method.
 pub struct BenchTable<'a>(pub &'a Bench);

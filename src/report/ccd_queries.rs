@@ -16,10 +16,10 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::geometry::ccd_edge_edge::edge_edge;
-use crate::geometry::ccd_root_finder::{CcdParams, Impact, RATIONAL_ROUNDING};
-use crate::geometry::ccd_vertex_face::vertex_face;
 use crate::io::ccd_queries::{CcdQuery, QueryKind};
+use cornertree::geometry::ccd_edge_edge::edge_edge;
+use cornertree::geometry::ccd_root_finder::{CcdParams, Impact, RATIONAL_ROUNDING};
+use cornertree::geometry::ccd_vertex_face::vertex_face;
 
 /// Timed passes per file; the best is kept (load only ever adds time).
 pub const ROUNDS: usize = 5;

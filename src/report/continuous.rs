@@ -8,9 +8,9 @@ use std::collections::BTreeMap;
 
 use serde::Serialize;
 
-use crate::pipeline::continuous_narrow::CcdCounters;
 use crate::truth::substep_score::{OnlyClass, StepPair, StepScore};
-use crate::world::{ContinuousOutcome, MethodOutcome};
+use cornertree::pipeline::continuous_narrow::CcdCounters;
+use cornertree::world::{ContinuousOutcome, MethodOutcome};
 
 /// A pair with its time of impact.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -4,9 +4,9 @@ use std::fmt;
 
 use serde::Serialize;
 
-use crate::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
-use crate::sphere_tree::validate::Checks;
-use crate::sphere_tree::{BuildParams, SphereTree, TreeError, build_tree};
+use cornertree::mesh::{EdgeDedup, TriMesh, TriangleId, dedup_edges};
+use cornertree::sphere_tree::validate::Checks;
+use cornertree::sphere_tree::{BuildParams, SphereTree, TreeError, build_tree};
 
 /// Summary of a mesh and its sphere tree. Field names are the `--json` keys.
 #[derive(Clone, Debug, Serialize)]

@@ -10,8 +10,8 @@
 
 use nalgebra::Vector3;
 
-use crate::geometry::ccd_triangles::MovingTriangle;
-use crate::geometry::{Point, Sphere, Triangle};
+use cornertree::geometry::ccd_triangles::MovingTriangle;
+use cornertree::geometry::{Point, Sphere, Triangle};
 
 /// The three input classes, in turn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -276,8 +276,8 @@ fn sphere_triangle(rng: &mut SplitMix64, class: InputClass) -> (Sphere, Triangle
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::exact::triangles_intersect_exact;
-    use crate::geometry::plane_sphere::sphere_meets_plane;
+    use cornertree::geometry::exact::triangles_intersect_exact;
+    use cornertree::geometry::plane_sphere::sphere_meets_plane;
 
     #[test]
     fn classes_are_what_they_say() {

@@ -3,7 +3,7 @@
 //!
 //! Every kernel runs on the same seeded mixed inputs
 //! ([`super::kernel_inputs`]) twice: instantiated with
-//! [`Counted`](crate::geometry::counted::Counted), which counts each
+//! [`Counted`](cornertree::geometry::counted::Counted), which counts each
 //! arithmetic operation (`+ − × ÷`, negation, `abs`, `sqrt`) and each
 //! comparison it executes, and with the scalar the pipeline runs (`f64`;
 //! `f32` for sphere-sphere), which is timed. The two must give the same
@@ -20,14 +20,16 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use crate::geometry::ccd_edge_edge::edge_edge_as;
-use crate::geometry::ccd_root_finder::CcdParams;
-use crate::geometry::ccd_triangles::{MovingTriangle, triangles_as};
-use crate::geometry::ccd_vertex_face::vertex_face_as;
-use crate::geometry::counted::{Counted, count_operations_by_kind};
-use crate::geometry::plane_sphere::{TrianglePlane, sphere_meets_plane, sphere_meets_plane_as};
-use crate::geometry::vec3::V3;
-use crate::geometry::{edge_crossing, ops, tri_tri, tropp};
+use cornertree::geometry::ccd_edge_edge::edge_edge_as;
+use cornertree::geometry::ccd_root_finder::CcdParams;
+use cornertree::geometry::ccd_triangles::{MovingTriangle, triangles_as};
+use cornertree::geometry::ccd_vertex_face::vertex_face_as;
+use cornertree::geometry::counted::{Counted, count_operations_by_kind};
+use cornertree::geometry::plane_sphere::{
+    TrianglePlane, sphere_meets_plane, sphere_meets_plane_as,
+};
+use cornertree::geometry::vec3::V3;
+use cornertree::geometry::{edge_crossing, ops, tri_tri, tropp};
 
 use super::kernel_inputs::KernelInputs;
 

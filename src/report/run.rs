@@ -5,14 +5,14 @@ use std::fmt;
 
 use serde::Serialize;
 
-use crate::pipeline::Method;
-use crate::pipeline::driver::FrameCounters;
 use crate::truth::WorldPairs;
 use crate::truth::{
     Accuracy, AccuracyTotals, Classified, Disagreement, FalseNegative, FalsePositive,
     FrameAccuracy, MethodTruth,
 };
-use crate::world::{ByKind, MethodOutcome, PairKind};
+use cornertree::pipeline::Method;
+use cornertree::pipeline::driver::FrameCounters;
+use cornertree::world::{ByKind, MethodOutcome, PairKind};
 
 /// How many differences of each kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]

@@ -6,11 +6,11 @@ use std::fmt;
 
 use serde::Serialize;
 
-use crate::big_triangle::hierarchy::table1;
 use crate::environment::Environment;
-use crate::geometry::Real;
-use crate::pipeline::{EnvironmentTree, Method};
-use crate::sphere_tree::BuildParams;
+use cornertree::big_triangle::hierarchy::table1;
+use cornertree::geometry::Real;
+use cornertree::pipeline::{EnvironmentTree, Method};
+use cornertree::sphere_tree::BuildParams;
 
 use super::paper;
 

@@ -10,10 +10,10 @@
 //! up (`tests/run_budget.rs` checks that each is at least what building
 //! takes, and not more than a few times it).
 
-use crate::big_triangle::hierarchy::{DivisionKind, MAX_LEVELS, division_nodes};
-use crate::geometry::Real;
-use crate::mesh::TriMesh;
-use crate::pipeline::Method;
+use cornertree::big_triangle::hierarchy::{DivisionKind, MAX_LEVELS, division_nodes};
+use cornertree::geometry::Real;
+use cornertree::mesh::TriMesh;
+use cornertree::pipeline::Method;
 
 /// One GiB.
 const GIB: usize = 1 << 30;
@@ -152,7 +152,7 @@ pub fn division_node_count(mesh: &TriMesh, methods: &[Method], threshold: Real) 
     let mut nodes = 0u64;
     for t in 0..mesh.triangle_count() {
         let longest = mesh
-            .triangle(crate::mesh::TriangleId(t as u32))
+            .triangle(cornertree::mesh::TriangleId(t as u32))
             .longest_edge();
         if longest > threshold {
             for &k in &kinds {

@@ -26,10 +26,10 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::character::SkinningModel;
-use crate::geometry::Real;
 use crate::io::CharacterSource;
-use crate::pipeline::{DEFAULT_THRESHOLD, Method};
+use cornertree::character::SkinningModel;
+use cornertree::geometry::Real;
+use cornertree::pipeline::{DEFAULT_THRESHOLD, Method};
 
 pub use budget::RunLimits;
 pub use objects::{ObjectEntry, ObjectShape};
@@ -822,7 +822,7 @@ fn character_section(
             source = CharacterSource::File(found);
         }
         CharacterSource::Humanoid(h) => {
-            use crate::character::humanoid::{MAX_VERTICES, MIN_VERTICES};
+            use crate::humanoid::{MAX_VERTICES, MIN_VERTICES};
             if !(MIN_VERTICES..=MAX_VERTICES).contains(&h.vertices) {
                 return Err(err_at(
                     src.span(),

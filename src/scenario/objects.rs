@@ -13,8 +13,8 @@ use toml::Spanned;
 
 use super::ranges::{self, MAX_DEGREES, MAX_METRES, MAX_SECONDS, show};
 use super::{ScenarioError, find_asset, locate, missing};
-use crate::geometry::Real;
 use crate::world::motion::Motion;
+use cornertree::geometry::Real;
 
 /// What an object is made of.
 #[derive(Clone, Debug, PartialEq)]

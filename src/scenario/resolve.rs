@@ -17,16 +17,18 @@ use std::path::{Path, PathBuf};
 
 use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
 
-use crate::character::{Character, Clip, JointId, PoseBuffers, SkinningModel, generate_humanoid};
 use crate::environment::{
     Environment, LIVING_ROOM_VERTICES, MUSEUM_VERTICES, living_room, living_room_scaled,
     load_scene_with, museum, museum_scaled,
 };
-use crate::geometry::Real;
-use crate::io::{CharacterSource, LoadLimits, load_character_with};
-use crate::pipeline::Method;
-use crate::pipeline::driver::{PipelineOptions, pose_frame};
-use crate::sphere_tree::BuildParams;
+use crate::humanoid::generate_humanoid;
+use crate::io::CharacterSource;
+use cornertree::character::{Character, Clip, JointId, PoseBuffers, SkinningModel};
+use cornertree::geometry::Real;
+use cornertree::io::{LoadLimits, load_character_with};
+use cornertree::pipeline::Method;
+use cornertree::pipeline::driver::{PipelineOptions, pose_frame};
+use cornertree::sphere_tree::BuildParams;
 
 use super::budget::{self, RunBudget, RunLimits};
 use super::objects::ObjectShape;
@@ -34,9 +36,9 @@ use super::ranges::{self, MAX_FRAMES};
 use super::{
     CharacterEntry, Doors, EnvironmentSection, Gap, Placement, Recording, Scenario, ScenarioError,
 };
-use crate::mesh::TriMesh;
 use crate::world::motion::Motion;
 use crate::world::shapes;
+use cornertree::mesh::TriMesh;
 
 /// A scenario made concrete: the world's bodies, the room and the run's
 /// settings.
@@ -673,7 +675,7 @@ fn place_at_gap(
     // The plane of the largest triangle, normal towards the room's centre (f64 throughout).
     let mesh = &env.mesh;
     let pos = mesh.positions();
-    let f = |p: &crate::geometry::Point| Vector3::new(p.x as f64, p.y as f64, p.z as f64);
+    let f = |p: &cornertree::geometry::Point| Vector3::new(p.x as f64, p.y as f64, p.z as f64);
     let mut best: Option<(f64, Vector3<f64>, Vector3<f64>)> = None;
     for ti in object.triangles.clone() {
         let [a, b, c] = mesh.indices()[ti as usize].map(|i| f(&pos[i as usize]));

@@ -18,13 +18,13 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
-use crate::character::PoseBuffers;
-use crate::geometry::Real;
-use crate::pipeline::Method;
-use crate::pipeline::driver::Pipeline;
 use crate::scenario::{
     Placement, Scenario, ScenarioError, SubdivideObject, load_scenario, resolve, scenario_name,
 };
+use cornertree::character::PoseBuffers;
+use cornertree::geometry::Real;
+use cornertree::pipeline::Method;
+use cornertree::pipeline::driver::Pipeline;
 
 /// Which knob a condition turns, away from the base scenario.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -246,7 +246,7 @@ pub fn run_study(
             if let Some(t) = largest_leaf_triangle {
                 row.largest_leaf_object = resolved
                     .environment
-                    .object_of(crate::mesh::TriangleId(t))
+                    .object_of(cornertree::mesh::TriangleId(t))
                     .map_or_else(String::new, |o| o.name.clone());
             }
             rows.push(row);

@@ -24,10 +24,12 @@
 use serde::Serialize;
 
 use super::TruthError;
-use crate::geometry::closest_point::{Point64, closest_point_on_segment, point_triangle_distance};
-use crate::geometry::exact::{Contact, classify};
-use crate::geometry::{Point, Triangle};
-use crate::mesh::{TriMesh, TriangleId};
+use cornertree::geometry::closest_point::{
+    Point64, closest_point_on_segment, point_triangle_distance,
+};
+use cornertree::geometry::exact::{Contact, classify};
+use cornertree::geometry::{Point, Triangle};
+use cornertree::mesh::{TriMesh, TriangleId};
 
 /// Why a pair is in one answer and not the other.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]

@@ -12,8 +12,8 @@ use serde::Serialize;
 
 use super::disagreement::{Disagreement, Tolerances, compare, differences, triangle_distance};
 use super::{FrameAccuracy, ParryReference, TruthError};
-use crate::geometry::{Point, Triangle};
-use crate::mesh::{TriMesh, TriangleId};
+use cornertree::geometry::{Point, Triangle};
+use cornertree::mesh::{TriMesh, TriangleId};
 
 /// Why a method missed a pair of the truth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]

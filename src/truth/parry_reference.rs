@@ -21,7 +21,7 @@
 //! frame of every shipped scenario, so it is parry's answer here.
 //!
 //! [`brute_force_pairs`] is an independent reference for small inputs: every
-//! pair through the exact oracle ([`crate::geometry::exact::classify`]).
+//! pair through the exact oracle ([`cornertree::geometry::exact::classify`]).
 
 use parry3d::math::{Pose, Vector as PVector};
 use parry3d::partitioning::BvhNode;
@@ -29,9 +29,9 @@ use parry3d::query;
 use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags, Triangle as ParryTriangle};
 
 use super::TruthError;
-use crate::geometry::exact::{Contact, classify};
-use crate::geometry::{Point, Triangle};
-use crate::mesh::{TriMesh, TriangleId};
+use cornertree::geometry::exact::{Contact, classify};
+use cornertree::geometry::{Point, Triangle};
+use cornertree::mesh::{TriMesh, TriangleId};
 
 fn to_parry(p: &Point) -> PVector {
     PVector::new(p.x, p.y, p.z)

@@ -26,11 +26,11 @@ use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 use super::TruthError;
 use super::parry_reference::parry_triangles_intersect;
 use super::world_truth::WorldPairs;
-use crate::character::PoseBuffers;
-use crate::geometry::Point;
-use crate::mesh::TriMesh;
 use crate::scenario::Resolved;
-use crate::world::{CharacterPair, ObjectPair, RoomPair};
+use cornertree::character::PoseBuffers;
+use cornertree::geometry::Point;
+use cornertree::mesh::TriMesh;
+use cornertree::world::{CharacterPair, ObjectPair, RoomPair};
 
 fn to_parry(p: &Point) -> PVector {
     PVector::new(p.x, p.y, p.z)

@@ -21,11 +21,11 @@ use parry3d::math::Vector as PVector;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use serde::Serialize;
 
-use crate::geometry::Point;
-use crate::geometry::exact::corners_intersect_exact;
-use crate::mesh::TriMesh;
 use crate::scenario::Resolved;
-use crate::world::{CharacterPair, ObjectPair, RoomPair};
+use cornertree::geometry::Point;
+use cornertree::geometry::exact::corners_intersect_exact;
+use cornertree::mesh::TriMesh;
+use cornertree::world::{CharacterPair, ObjectPair, RoomPair};
 
 /// Sub-steps per frame step by default.
 pub const DEFAULT_SUBSTEPS: u32 = 256;

@@ -16,8 +16,8 @@
 
 use serde::Serialize;
 
-use crate::geometry::ccd_root_finder::CcdParams;
-use crate::world::{CharacterPair, ContinuousOutcome, ObjectPair, RoomPair, Timed};
+use cornertree::geometry::ccd_root_finder::CcdParams;
+use cornertree::world::{CharacterPair, ContinuousOutcome, ObjectPair, RoomPair, Timed};
 
 use super::substep::{Found, MovingCorners, StepBodies, SubstepTruth, corners_at, touch_at};
 
@@ -307,7 +307,7 @@ fn segment_segment(p: P, q: P, r: P, s: P) -> f64 {
 /// says they meet): the least of the six corner–triangle and nine
 /// edge–edge distances.
 pub fn triangle_distance(a: &[P; 3], b: &[P; 3]) -> f64 {
-    if crate::geometry::exact::corners_intersect_exact(a, b) {
+    if cornertree::geometry::exact::corners_intersect_exact(a, b) {
         return 0.0;
     }
     let mut best = f64::INFINITY;

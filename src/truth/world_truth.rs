@@ -15,11 +15,11 @@ use nalgebra::Isometry3;
 use serde::Serialize;
 
 use super::{Accuracy, FrameTruth, TruthError};
-use crate::character::PoseBuffers;
-use crate::geometry::{Point, bounds_of};
-use crate::mesh::TriMesh;
 use crate::scenario::Resolved;
-use crate::world::{ByKind, CharacterPair, MethodOutcome, ObjectPair, RoomPair};
+use cornertree::character::PoseBuffers;
+use cornertree::geometry::{Point, bounds_of};
+use cornertree::mesh::TriMesh;
+use cornertree::world::{ByKind, CharacterPair, MethodOutcome, ObjectPair, RoomPair};
 
 /// This frame's pairs of every kind, sorted.
 #[derive(Clone, Debug, Default, Serialize)]

@@ -24,17 +24,19 @@ use std::time::Instant;
 use nalgebra::{Isometry3, Vector3};
 use rayon::prelude::*;
 
-use crate::character::PoseBuffers;
 use crate::environment::RigidMotion;
-use crate::geometry::Sphere;
-use crate::geometry::ccd_root_finder::CcdParams;
-use crate::geometry::ccd_sphere_plane::StillPlane;
-use crate::pipeline::continuous::{Body, CharacterSweep, StepPose, detect_characters, room_planes};
-use crate::pipeline::continuous_narrow::{CcdCounters, TimedPair};
-use crate::pipeline::driver::FrameCounters;
-use crate::sphere_tree::swept_rigid::RigidPath;
-use crate::sphere_tree::traverse::LeafPair;
-use crate::sphere_tree::{NodeId, Workspace};
+use cornertree::character::PoseBuffers;
+use cornertree::geometry::Sphere;
+use cornertree::geometry::ccd_root_finder::CcdParams;
+use cornertree::geometry::ccd_sphere_plane::StillPlane;
+use cornertree::pipeline::continuous::{
+    Body, CharacterSweep, StepPose, detect_characters, room_planes,
+};
+use cornertree::pipeline::continuous_narrow::{CcdCounters, TimedPair};
+use cornertree::pipeline::driver::FrameCounters;
+use cornertree::sphere_tree::swept_rigid::RigidPath;
+use cornertree::sphere_tree::traverse::LeafPair;
+use cornertree::sphere_tree::{NodeId, Workspace};
 
 use super::continuous_outcome::{ContinuousOutcome, Timed};
 use super::motion::Motion;
@@ -432,7 +434,7 @@ fn body<'a>(
     prev: &'a [PoseBuffers],
     buffers: &'a [PoseBuffers],
     i: usize,
-    tree: &'a crate::sphere_tree::character::CharacterTree,
+    tree: &'a cornertree::sphere_tree::character::CharacterTree,
 ) -> Body<'a> {
     let a = &scene.characters[i];
     Body {

@@ -9,7 +9,7 @@
 use nalgebra::{Isometry3, Translation3, Unit, UnitQuaternion, Vector3};
 
 use crate::environment::RigidMotion;
-use crate::geometry::Real;
+use cornertree::geometry::Real;
 
 /// An object's motion over world time (seconds).
 #[derive(Clone, Debug, PartialEq)]

@@ -31,15 +31,15 @@ use std::time::Instant;
 use nalgebra::Isometry3;
 use rayon::prelude::*;
 
-use crate::character::PoseBuffers;
-use crate::geometry::Sphere;
-use crate::io::limits::MAX_COORDINATE;
-use crate::mesh::{EdgeDedup, dedup_edges};
-use crate::pipeline::bodies::{CharacterPairScratch, detect_characters, sphere_in_frame};
-use crate::pipeline::driver::{FrameCounters, Pipeline};
-use crate::pipeline::{EnvironmentTree, Method};
 use crate::scenario::Resolved;
-use crate::sphere_tree::NodeId;
+use cornertree::character::PoseBuffers;
+use cornertree::geometry::Sphere;
+use cornertree::io::limits::MAX_COORDINATE;
+use cornertree::mesh::{EdgeDedup, dedup_edges};
+use cornertree::pipeline::bodies::{CharacterPairScratch, detect_characters, sphere_in_frame};
+use cornertree::pipeline::driver::{FrameCounters, Pipeline};
+use cornertree::pipeline::{EnvironmentTree, Method};
+use cornertree::sphere_tree::NodeId;
 
 use super::outcome::{CharacterPair, MethodOutcome, ObjectPair, RoomPair, add_counters};
 use super::pass_graph::PassGraph;
@@ -369,7 +369,7 @@ impl World {
 
 impl MethodWorld {
     fn build(scene: &Resolved, method: Method, dedups: &[EdgeDedup]) -> Self {
-        let build = crate::sphere_tree::BuildParams::default();
+        let build = cornertree::sphere_tree::BuildParams::default();
         let room = Arc::new(EnvironmentTree::build(
             &scene.environment.mesh,
             method,

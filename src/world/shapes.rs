@@ -1,8 +1,8 @@
 //! Meshes of the generated rigid objects a scenario can put in a world
 //! (`[[objects]] kind`), each in its own frame.
 
-use crate::geometry::Point;
-use crate::mesh::TriMesh;
+use cornertree::geometry::Point;
+use cornertree::mesh::TriMesh;
 
 /// A box of full extents `size`, centred on the origin (12 triangles).
 pub fn box_mesh(size: [f32; 3]) -> TriMesh {

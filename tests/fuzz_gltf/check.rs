@@ -14,8 +14,8 @@ use std::time::{Duration, Instant};
 use cornertree::character::SkinningModel;
 use cornertree::io::{LoadError, LoadLimits, load_character_from, load_static_mesh_from};
 use cornertree::mesh::TriMesh;
-use cornertree::report::animate::{AnimateOptions, animate};
-use cornertree::report::inspect::{InspectOptions, inspect_mesh};
+use cornertree_workbench::report::animate::{AnimateOptions, animate};
+use cornertree_workbench::report::inspect::{InspectOptions, inspect_mesh};
 
 use super::alloc::{CURRENT, PEAK};
 use super::mutate::{Files, file_names};

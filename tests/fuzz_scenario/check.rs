@@ -16,9 +16,9 @@ use std::sync::atomic::Ordering;
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
-use cornertree::scenario::{RunLimits, Scenario, resolve_with};
-use cornertree::truth::{FrameTruth, WorldTruth};
-use cornertree::world::World;
+use cornertree_workbench::scenario::{RunLimits, Scenario, resolve_with};
+use cornertree_workbench::truth::{FrameTruth, WorldTruth};
+use cornertree_workbench::world::World;
 
 use super::alloc::{CURRENT, PEAK};
 
@@ -178,7 +178,7 @@ fn run(text: &str, path: &Path) -> Result<Outcome, String> {
     }
     // `ccd = true`: continuous detection of the last step (posing its start).
     if world.scene.ccd && frames > 1 {
-        let mut cw = cornertree::world::ContinuousWorld::new(
+        let mut cw = cornertree_workbench::world::ContinuousWorld::new(
             &world,
             cornertree::geometry::ccd_root_finder::CcdParams::default(),
         );

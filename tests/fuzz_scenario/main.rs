@@ -240,9 +240,13 @@ fn seeds_run() {
     for seed in seeds() {
         let path = case_path(&seed.name);
         if !seed.name.ends_with("-light") {
-            let s = cornertree::scenario::Scenario::parse(&seed.text, &path).unwrap();
-            cornertree::scenario::resolve_with(&s, path.parent().unwrap(), &check::LIMITS)
-                .unwrap_or_else(|e| panic!("{e}"));
+            let s = cornertree_workbench::scenario::Scenario::parse(&seed.text, &path).unwrap();
+            cornertree_workbench::scenario::resolve_with(
+                &s,
+                path.parent().unwrap(),
+                &check::LIMITS,
+            )
+            .unwrap_or_else(|e| panic!("{e}"));
             continue;
         }
         let (outcome, cost) = run_case(&seed.text, &path);

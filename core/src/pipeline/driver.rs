@@ -23,7 +23,6 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use nalgebra::Matrix4;
-use serde::Serialize;
 
 use crate::character::{Character, Clip, OnDemandSkin, PoseBuffers, SkinningModel};
 use crate::geometry::ops;
@@ -43,7 +42,8 @@ use super::visit_log::{NoLog, TestedNodes, VisitLog};
 use super::{EnvironmentTree, LeafTest, Method};
 
 /// What one frame cost.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FrameCounters {
     pub sphere_sphere: u64,
     pub tri_tri: u64,
@@ -59,7 +59,8 @@ pub struct FrameCounters {
 }
 
 /// Milliseconds spent per stage.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct FrameTime {
     /// Joint matrices: clip sampling, world and skin matrices, placement (set
     /// by the caller, who poses once for every method).

@@ -16,8 +16,6 @@
 //!      the time of impact is 0;
 //!   3. the triangle–triangle CCD kernel (`geometry::ccd_triangles`).
 
-use serde::Serialize;
-
 use crate::geometry::ccd_root_finder::CcdParams;
 use crate::geometry::ccd_triangles::{MovingTriangle, triangles};
 use crate::geometry::exact::{corners_intersect_exact, orient3};
@@ -26,7 +24,8 @@ use crate::geometry::{Point, Triangle};
 /// Counters of the continuous leaf tests (beside `FrameCounters`, whose
 /// `tri_tri` counts triangle pairs tested and `plane_sphere` every sphere
 /// against a plane).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CcdCounters {
     /// Triangle pairs ruled out by the leaf's sphere (no vertex skinned) or
     /// the triangle's corners at both ends staying on one side of a still
@@ -54,7 +53,8 @@ impl CcdCounters {
 
 /// A pair found touching during a step: `(a, b)` triangle indices, the
 /// lower bound of its time of impact, and whether a plane test answered it.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct TimedPair {
     pub a: u32,
     pub b: u32,

@@ -5,8 +5,9 @@
 //! (docs/results.md, "Reading the plane-sphere method").
 
 use std::fmt;
+use std::str::FromStr;
 
-use serde::{Deserialize, Serialize};
+use crate::choice::{Choice, UnknownName, parse_choice, show};
 
 use crate::big_triangle::DivisionKind;
 use crate::sphere_tree::BuildParams;
@@ -19,20 +20,9 @@ use crate::sphere_tree::refit::RefitRule;
 pub const WIDE_CHARACTER_COLLAPSE: f32 = 0.6;
 
 /// How the environment's big triangles are handled.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    PartialEq,
-    Eq,
-    Hash,
-    PartialOrd,
-    Ord,
-    Serialize,
-    Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Method {
     /// Every environment triangle is one leaf, answered by the
     /// triangle-triangle test. §3: "Once the algorithm finds two colliding
@@ -89,8 +79,9 @@ pub enum Method {
 }
 
 /// The exact test run where a character leaf meets an environment leaf.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum LeafTest {
     /// Triangle-triangle test (96 operations in the paper's model).
     TriTri,
@@ -200,6 +191,15 @@ impl Method {
 
     /// The name used on the command line, in files and in reports.
     pub fn name(self) -> &'static str {
+        <Self as Choice>::name(self)
+    }
+}
+
+impl Choice for Method {
+    const WHAT: &'static str = "method";
+    const ALL: &'static [Self] = &Method::ALL;
+
+    fn name(self) -> &'static str {
         match self {
             Method::Original => "original",
             Method::SphereDivision => "sphere-division",
@@ -211,11 +211,48 @@ impl Method {
             Method::UndividedPrunedTriTri => "undivided-pruned-tri-tri",
         }
     }
+
+    fn summary(self) -> &'static str {
+        match self {
+            Method::Original => {
+                "every room triangle one leaf, the triangle-triangle test at leaf pairs (§3)"
+            }
+            Method::SphereDivision => {
+                "big triangles split four ways, triangle-triangle leaves (§5, sphere division)"
+            }
+            Method::PlaneSphere => {
+                "corner-trees in big triangles, the plane-sphere test where a character leaf meets a corner-tree leaf (§5 as written)"
+            }
+            Method::QuaternaryPlaneSphere => {
+                "full quaternary trees instead of corner-trees, plane-sphere leaves (§5's alternative)"
+            }
+            Method::PlaneSpherePruned => {
+                "ours: plane-sphere with every character sphere tested against the plane on the way down"
+            }
+            Method::QuaternaryPlaneSpherePruned => {
+                "ours: quaternary-plane-sphere pruned at the plane"
+            }
+            Method::PrunedTriTri => {
+                "ours: corner-trees pruned at the plane and edge planes, triangle-triangle leaves, each pair once (original's pairs)"
+            }
+            Method::UndividedPrunedTriTri => {
+                "ours: pruned-tri-tri with big triangles left whole (original's pairs, fewest tests)"
+            }
+        }
+    }
+}
+
+impl FromStr for Method {
+    type Err = UnknownName;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_choice(s)
+    }
 }
 
 impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        show(*self, f)
     }
 }
 
@@ -223,6 +260,16 @@ impl fmt::Display for Method {
 mod tests {
     use super::*;
 
+    #[test]
+    fn names_round_trip_through_from_str() {
+        for m in Method::ALL {
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+            assert_eq!(m.to_string(), m.name());
+        }
+        assert!("plane".parse::<Method>().is_err());
+    }
+
+    #[cfg(feature = "serde")]
     #[test]
     fn names_round_trip_through_serde() {
         for m in Method::ALL {

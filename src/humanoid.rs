@@ -40,12 +40,12 @@ use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
 use nalgebra::{Matrix4, Quaternion, UnitQuaternion, Vector3};
 
-use crate::geometry::Point;
-use crate::mesh::{MeshError, TriMesh};
+use cornertree::geometry::Point;
+use cornertree::mesh::{MeshError, TriMesh};
 
-use super::clip::ChannelError;
-use super::skinning::SkinError;
-use super::{
+use cornertree::character::clip::ChannelError;
+use cornertree::character::skinning::SkinError;
+use cornertree::character::{
     Channel, ChannelValues, Character, Clip, Interpolation, Joint, JointId, Skeleton,
     SkeletonError, Trs,
 };
@@ -121,7 +121,8 @@ pub fn generate_humanoid_parts(
     let layouts = fit_layout(&specs, p.vertices);
     let built = build_surface(&specs, &layouts);
     let mesh = TriMesh::new(built.positions, built.triangles)?;
-    let influences = super::Influences::new(built.joints, built.weights, skeleton.len())?;
+    let influences =
+        cornertree::character::Influences::new(built.joints, built.weights, skeleton.len())?;
     let clips = clips(&skeleton, p.seed)?;
     let name = format!("humanoid-{}v-seed{}", p.vertices, p.seed);
     Ok((

@@ -21,8 +21,9 @@ pub const DEFAULT_THRESHOLD: Real = 0.15;
 const NOT_A_DIVISION_LEAF: u32 = u32::MAX;
 
 /// When a triangle is big: its longest edge exceeds this.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Threshold {
     /// In model units (metres).
     Absolute(Real),

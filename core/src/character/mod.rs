@@ -8,10 +8,8 @@
 //! | [`on_demand`] | [`OnDemandSkin`]: skins only the vertices a frame's narrow phase reads | |
 //! | [`clip`] | [`Clip`]: keyframed channels (STEP, LINEAR, CUBICSPLINE) sampled at any time | |
 //! | [`skinning`] | glTF linear blend skinning and the paper's one-joint model, with the conversion | §3 |
-//! | [`humanoid`] | procedural humanoid: 22-joint skeleton, closed skinned surface of any vertex count, walk/reach/turn clips | §3, §6 |
 
 pub mod clip;
-pub mod humanoid;
 pub mod model;
 pub mod on_demand;
 pub mod skeleton;
@@ -19,7 +17,6 @@ pub mod skinning;
 pub mod transform;
 
 pub use clip::{Channel, ChannelValues, Clip, Interpolation};
-pub use humanoid::{HumanoidError, HumanoidParams, generate_humanoid};
 pub use model::{Character, PoseBuffers, UnknownClip};
 pub use on_demand::OnDemandSkin;
 pub use skeleton::{Joint, JointId, Skeleton, SkeletonError};

@@ -25,8 +25,9 @@ use crate::sphere_tree::{Node, NodeId, SphereTree};
 use super::SubTriangle;
 
 /// Which sub-triangles split again.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum DivisionKind {
     /// All of them (quaternary tree).
     Full,

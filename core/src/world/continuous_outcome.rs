@@ -2,8 +2,6 @@
 //! pairs touching during the step with their times of impact, the earliest,
 //! and the counters (docs/ccd.md, "Swept hierarchies").
 
-use serde::Serialize;
-
 use crate::pipeline::Method;
 use crate::pipeline::continuous_narrow::CcdCounters;
 use crate::pipeline::driver::FrameCounters;
@@ -13,9 +11,10 @@ use super::outcome::{ByKind, CharacterPair, ObjectPair, RoomPair};
 /// A pair touching during a step: the pair, a lower bound of its time of
 /// impact (fraction of the step, 0 at the previous frame) and whether a
 /// plane test (not a triangle test) answered it.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct Timed<P> {
-    #[serde(flatten)]
+    #[cfg_attr(feature = "serde", serde(flatten))]
     pub pair: P,
     pub toi: f64,
     pub by_plane: bool,
@@ -61,7 +60,7 @@ impl ContinuousOutcome {
         self.room_pairs.len() + self.object_pairs.len() + self.character_pairs.len()
     }
 
-    pub(crate) fn clear(&mut self) {
+    pub fn clear(&mut self) {
         self.frame = None;
         self.total = FrameCounters::default();
         self.by_kind = ByKind::default();

@@ -112,7 +112,7 @@ impl OnDemandSkin {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::character::{HumanoidParams, generate_humanoid};
+    use crate::humanoid::{HumanoidParams, generate_humanoid};
     use nalgebra::{Matrix4, Vector3};
 
     /// Every vertex asked for equals full skinning bit for bit, under both

@@ -1,14 +1,13 @@
 //! What one frame of a world cost and found, per method: counters by pair
 //! kind and in total, and the colliding pairs of every kind.
 
-use serde::Serialize;
-
 use crate::pipeline::Method;
 use crate::pipeline::driver::FrameCounters;
 
 /// The three kinds of body pairs of a world.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "snake_case"))]
 pub enum PairKind {
     /// A character against the static room.
     Environment,
@@ -35,7 +34,8 @@ impl PairKind {
 }
 
 /// One value per pair kind.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ByKind<T> {
     pub environment: T,
     pub objects: T,
@@ -61,7 +61,8 @@ impl<T> ByKind<T> {
 }
 
 /// A character triangle touching a room triangle.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RoomPair {
     pub character: u32,
     pub triangle: u32,
@@ -69,7 +70,8 @@ pub struct RoomPair {
 }
 
 /// A character triangle touching an object triangle (object frame indices).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct ObjectPair {
     pub character: u32,
     pub triangle: u32,
@@ -78,7 +80,8 @@ pub struct ObjectPair {
 }
 
 /// A triangle of one character touching one of another (`a < b`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct CharacterPair {
     pub a: u32,
     pub triangle_a: u32,

@@ -9,6 +9,7 @@
 //! load is refused with the value that drove it. Decoding is linear in what
 //! is charged, so the budget bounds the loading time too.
 
+#[cfg(feature = "gltf")]
 use std::cell::Cell;
 
 /// Largest magnitude of a coordinate the loaders accept (positions as stored
@@ -38,11 +39,13 @@ impl Default for LoadLimits {
 
 /// The bytes charged so far against a [`LoadLimits`].
 #[derive(Debug)]
+#[cfg(feature = "gltf")]
 pub(crate) struct Budget {
     max: usize,
     used: Cell<usize>,
 }
 
+#[cfg(feature = "gltf")]
 impl Budget {
     pub(crate) fn new(limits: &LoadLimits) -> Self {
         Self {

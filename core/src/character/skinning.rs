@@ -19,8 +19,12 @@
 //! vertex can lie from its exact position (see [`crate::sphere_tree::refit`]).
 //! Change the arithmetic below and those counts must be checked again.
 
+use std::fmt;
+use std::str::FromStr;
+
 use nalgebra::Matrix4;
 
+use crate::choice::{Choice, UnknownName, parse_choice, show};
 use crate::geometry::Point;
 
 use super::{JointId, Skeleton};
@@ -43,15 +47,47 @@ pub const LINEAR_ROUNDINGS: u32 = 8;
 pub const PAPER_ROUNDINGS: u32 = 6;
 
 /// Which skinning model animates the mesh.
-#[derive(
-    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum SkinningModel {
     /// glTF linear blend skinning, up to four influences.
     Linear,
     /// The paper's one-joint model (§3).
     Paper,
+}
+
+impl Choice for SkinningModel {
+    const WHAT: &'static str = "skinning model";
+    const ALL: &'static [Self] = &[SkinningModel::Linear, SkinningModel::Paper];
+
+    fn name(self) -> &'static str {
+        match self {
+            SkinningModel::Linear => "linear",
+            SkinningModel::Paper => "paper",
+        }
+    }
+
+    fn summary(self) -> &'static str {
+        match self {
+            SkinningModel::Linear => "glTF linear blend skinning, up to four influences",
+            SkinningModel::Paper => "the paper's one-joint model (§3)",
+        }
+    }
+}
+
+impl FromStr for SkinningModel {
+    type Err = UnknownName;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_choice(s)
+    }
+}
+
+impl fmt::Display for SkinningModel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        show(*self, f)
+    }
 }
 
 /// Why per-vertex skinning data is unusable. Vertex indices are the mesh's.

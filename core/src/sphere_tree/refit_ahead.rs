@@ -64,7 +64,7 @@ mod tests {
     use std::collections::BTreeSet;
 
     use crate::character::PoseBuffers;
-    use crate::character::humanoid::{HumanoidParams, generate_humanoid};
+    use crate::humanoid::{HumanoidParams, generate_humanoid};
     use crate::mesh::EdgeDedup;
     use crate::sphere_tree::character::CharacterTree;
     use crate::sphere_tree::refit::{RefitState, Refitter};

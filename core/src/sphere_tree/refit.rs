@@ -98,6 +98,7 @@ use nalgebra::{Matrix3, Matrix4, Vector3};
 
 use crate::character::skinning::{LINEAR_ROUNDINGS, PAPER_ROUNDINGS};
 use crate::character::{Character, JointId, Skeleton, SkinningModel};
+use crate::choice::{Choice, UnknownName, parse_choice, show};
 use crate::geometry::enclosing::{points_sphere, round_up};
 use crate::geometry::{Point, Sphere, Vector};
 use crate::prefetch::prefetch_at;
@@ -262,18 +263,9 @@ enum Rule {
 const _: () = assert!(std::mem::size_of::<Rule>() == 24);
 
 /// How a character tree's spheres are refit to a pose.
-#[derive(
-    Clone,
-    Copy,
-    Debug,
-    Default,
-    PartialEq,
-    Eq,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum RefitRule {
     /// The paper's (§3): the rest centre through every corner blend of the
     /// node's weight ranges plus the whole rest radius; root and extremity
@@ -284,6 +276,41 @@ pub enum RefitRule {
     /// vertices that joint moves (non-zero weight); the posed sphere holds
     /// every ball moved by its joint (module doc, "Joint balls").
     JointBalls,
+}
+
+impl Choice for RefitRule {
+    const WHAT: &'static str = "refit rule";
+    const ALL: &'static [Self] = &[RefitRule::PaperCorners, RefitRule::JointBalls];
+
+    fn name(self) -> &'static str {
+        match self {
+            RefitRule::PaperCorners => "paper-corners",
+            RefitRule::JointBalls => "joint-balls",
+        }
+    }
+
+    fn summary(self) -> &'static str {
+        match self {
+            RefitRule::PaperCorners => {
+                "the paper's: the rest centre through every corner blend of the weight ranges, the whole rest radius (§3)"
+            }
+            RefitRule::JointBalls => "ours: one rest ball per joint, moved by its joint",
+        }
+    }
+}
+
+impl std::str::FromStr for RefitRule {
+    type Err = UnknownName;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        parse_choice(s)
+    }
+}
+
+impl std::fmt::Display for RefitRule {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        show(*self, f)
+    }
 }
 
 /// A rest ball of [`RefitRule::JointBalls`]: the bind vertices of one node
@@ -1233,9 +1260,9 @@ mod tests {
     use nalgebra::{Matrix3, Matrix4, Rotation3, Vector3};
 
     use super::{RefitRule, RefitState, Refitter, stretch};
-    use crate::character::humanoid::{HumanoidParams, generate_humanoid};
     use crate::character::{Character, PoseBuffers, SkinningModel};
     use crate::geometry::Sphere;
+    use crate::humanoid::{HumanoidParams, generate_humanoid};
     use crate::mesh::EdgeDedup;
     use crate::sphere_tree::BuildParams;
     use crate::sphere_tree::character::CharacterTree;
