@@ -11,8 +11,11 @@ mod fixtures;
 use std::hint::black_box;
 
 use cornertree::character::{PoseBuffers, SkinningModel};
+use cornertree::mesh::EdgeDedup;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::Pipeline;
+use cornertree::sphere_tree::BuildParams;
+use cornertree::sphere_tree::character::CharacterTree;
+use cornertree::sphere_tree::refit::{RefitState, Refitter};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
 use fixtures::{FrameCycle, scenario};
@@ -62,20 +65,28 @@ fn full_refit(c: &mut Criterion) {
             ("every sphere, paper corners", Method::Original),
             ("every sphere, joint balls", Method::UndividedPrunedTriTri),
         ] {
-            let mut p = Pipeline::new(
+            let tree = CharacterTree::build_with_rule(
                 character,
-                &r.environment.mesh,
-                method,
-                r.pipeline_options(r.first()),
+                &EdgeDedup::keep_all(&character.mesh),
+                r.first().skinning,
+                method.character_build(BuildParams::default()),
+                method.refit_rule(),
             );
-            g.throughput(Throughput::Elements(p.character_tree.tree.len() as u64));
+            let mut state = RefitState::new(&tree, character.skeleton.len());
+            g.throughput(Throughput::Elements(tree.tree.len() as u64));
             let mut buffers = PoseBuffers::new(character);
             let mut cycle = FrameCycle::new(r.frames());
             g.bench_function(label, |b| {
                 b.iter(|| {
                     r.first().pose_frame(&mut buffers, cycle.next_frame());
-                    p.refit_all(&buffers);
-                    black_box(p.refit_state().spheres.len())
+                    state.begin_frame_with_base(&buffers.skin, &buffers.base);
+                    Refitter {
+                        tree: &tree,
+                        skin: &buffers.skin,
+                        state: &mut state,
+                    }
+                    .refit_all(&buffers.base);
+                    black_box(state.spheres.len())
                 })
             });
         }

@@ -30,6 +30,6 @@ pub mod io;
 pub mod record;
 pub mod report;
 pub mod scenario;
+pub mod session;
 pub mod study;
 pub mod truth;
-pub mod world;

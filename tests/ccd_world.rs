@@ -22,8 +22,8 @@ use cornertree::pipeline::Method;
 use cornertree::pipeline::continuous_narrow::{CcdCounters, leaf_toi};
 use cornertree::world::{CharacterPair, ObjectPair, RoomPair};
 use cornertree_workbench::scenario::{Scenario, resolve};
+use cornertree_workbench::session::Session;
 use cornertree_workbench::truth::substep::{MovingCorners, StepBodies};
-use cornertree_workbench::world::{ContinuousWorld, World};
 
 const SMALL_WORLD: &str = r#"
 fps = 30
@@ -150,10 +150,15 @@ fn brute_force(bodies: &StepBodies<'_>, params: &CcdParams) -> Vec<(Key, f64)> {
     out
 }
 
-fn keys(o: &cornertree::world::ContinuousOutcome) -> Vec<(Key, f64)> {
-    let room = |p: &RoomPair| (0, [p.character, p.triangle, p.room_triangle, 0]);
-    let object = |p: &ObjectPair| (1, [p.character, p.triangle, p.object, p.object_triangle]);
-    let chars = |p: &CharacterPair| (2, [p.a, p.triangle_a, p.b, p.triangle_b]);
+fn keys(o: &cornertree::world::SweepContacts) -> Vec<(Key, f64)> {
+    let room = |p: &RoomPair| (0, [p.character.0, p.triangle, p.room_triangle, 0]);
+    let object = |p: &ObjectPair| {
+        (
+            1,
+            [p.character.0, p.triangle, p.object.0, p.object_triangle],
+        )
+    };
+    let chars = |p: &CharacterPair| (2, [p.a.0, p.triangle_a, p.b.0, p.triangle_b]);
     let mut v: Vec<(Key, f64)> = o
         .room_pairs
         .iter()
@@ -169,15 +174,18 @@ fn keys(o: &cornertree::world::ContinuousOutcome) -> Vec<(Key, f64)> {
 fn exact_methods_find_exactly_the_brute_force_pairs() {
     let s = Scenario::parse(SMALL_WORLD, Path::new("small_world.toml")).unwrap();
     let r = resolve(&s, Path::new(env!("CARGO_MANIFEST_DIR"))).unwrap();
-    let mut world = World::new(r, 2).unwrap();
-    let mut cw = ContinuousWorld::new(&world, CcdParams::default());
+    let mut world = Session::new(r, 2).unwrap();
+    let params = CcdParams::default();
+    world.enable_continuous(params);
     let mut prev: Vec<Vec<Point>> = Vec::new();
     let mut prev_poses = Vec::new();
     let mut seen = [0usize; 3];
     for k in 0..world.frames() {
         world.pose(k);
         world.skin_all();
-        cw.detect_all(&mut world, k);
+        for m in 0..world.worlds().len() {
+            world.sweep(m, k).unwrap();
+        }
         if k > 0 {
             let bodies = StepBodies {
                 scene: &world.scene,
@@ -190,28 +198,22 @@ fn exact_methods_find_exactly_the_brute_force_pairs() {
                 object_start: &prev_poses,
                 object_end: &world.object_poses,
             };
-            let want = brute_force(&bodies, &cw.params);
+            let want = brute_force(&bodies, &params);
             for (kind, _) in &want {
                 seen[kind.0 as usize] += 1;
             }
-            for (m, mw) in world.methods.iter().enumerate() {
-                let got = keys(cw.outcome(m));
+            for (m, method) in world.methods().enumerate() {
+                let got = keys(world.world(m).sweep_contacts().unwrap());
                 assert_eq!(
                     got.len(),
                     want.len(),
-                    "step {k}, {}: {} pairs, brute force {}",
-                    mw.method,
+                    "step {k}, {method}: {} pairs, brute force {}",
                     got.len(),
                     want.len()
                 );
                 for (g, w) in got.iter().zip(&want) {
-                    assert_eq!(g.0, w.0, "step {k}, {}", mw.method);
-                    assert_eq!(
-                        g.1.to_bits(),
-                        w.1.to_bits(),
-                        "step {k}, {}: {g:?}",
-                        mw.method
-                    );
+                    assert_eq!(g.0, w.0, "step {k}, {method}");
+                    assert_eq!(g.1.to_bits(), w.1.to_bits(), "step {k}, {method}: {g:?}");
                 }
             }
         }
@@ -224,7 +226,7 @@ fn exact_methods_find_exactly_the_brute_force_pairs() {
         "pairs per kind over the run: {seen:?}"
     );
     assert_eq!(
-        world.methods.iter().map(|m| m.method).collect::<Vec<_>>(),
+        world.methods().collect::<Vec<_>>(),
         [
             Method::Original,
             Method::SphereDivision,

@@ -1,16 +1,19 @@
-//! The per-frame pipeline against brute force, per method; determinism.
+//! A world of one character in a room of random triangles, per method,
+//! against brute force; determinism; the visit log changes nothing.
 
 mod common;
 
 use std::collections::BTreeSet;
+use std::sync::Arc;
 
 use cornertree::character::{Character, PoseBuffers, SkinningModel};
 use cornertree::geometry::tri_tri::triangles_intersect;
 use cornertree::geometry::{Point, Triangle};
 use cornertree::mesh::TriMesh;
-use cornertree::pipeline::driver::{FrameCounters, Pipeline, PipelineOptions};
-use cornertree::pipeline::{LeafTest, Method};
-use cornertree::sphere_tree::BuildParams;
+use cornertree::pipeline::{FrameCounters, LeafTest, Method};
+use cornertree::world::{
+    CharacterHandle, CharacterModel, CollisionWorld, RoomHandle, WorldSettings,
+};
 use nalgebra::{Matrix4, Vector3};
 use rand::{Rng, SeedableRng, rngs::SmallRng};
 
@@ -55,12 +58,56 @@ fn brute_force(character: &Character, positions: &[Point], env: &TriMesh) -> BTr
     out
 }
 
-fn options(dedup: bool, skinning: SkinningModel) -> PipelineOptions {
-    PipelineOptions {
-        skinning,
-        dedup,
-        threshold: 1.0,
-        build: BuildParams::default(),
+/// One character in one room, detected with `method`.
+struct One {
+    method: Method,
+    world: CollisionWorld,
+    room: RoomHandle,
+    character: CharacterHandle,
+}
+
+impl One {
+    fn new(
+        character: &Arc<Character>,
+        env: &Arc<TriMesh>,
+        method: Method,
+        dedup: bool,
+        skinning: SkinningModel,
+    ) -> Self {
+        let settings = WorldSettings {
+            threshold: 1.0,
+            ..WorldSettings::default()
+        };
+        let mut world = CollisionWorld::with_settings(method, settings);
+        let room = world.add_room(env.clone()).unwrap();
+        let model = if dedup {
+            CharacterModel::deduplicated(character.clone(), skinning)
+        } else {
+            CharacterModel::new(character.clone(), skinning)
+        };
+        let character = world.add_character(Arc::new(model.unwrap())).unwrap();
+        Self {
+            method,
+            world,
+            room,
+            character,
+        }
+    }
+
+    /// One step at `pose`: its counters.
+    fn detect(&mut self, pose: &PoseBuffers) -> FrameCounters {
+        self.world.set_pose(self.character, pose).unwrap();
+        self.world.step().total
+    }
+
+    /// The last step's (character triangle, room triangle) pairs.
+    fn pairs(&self) -> Vec<(u32, u32)> {
+        self.world
+            .contacts()
+            .room_pairs
+            .iter()
+            .map(|p| (p.triangle, p.room_triangle))
+            .collect()
     }
 }
 
@@ -70,8 +117,8 @@ fn every_method_against_brute_force() {
     let mut skinned_all = 0;
     let mut leaf_plane_tests = 0;
     for seed in 0..4u64 {
-        let character = common::random_character(seed, 6, 300);
-        let env = environment(seed);
+        let character = Arc::new(common::random_character(seed, 6, 300));
+        let env = Arc::new(environment(seed));
         let placement = Matrix4::new_translation(&Vector3::new(3.0, 3.0, 3.0));
         // Both skinning models: the pipeline skins with the one it was built for.
         let model = if seed % 2 == 0 {
@@ -80,9 +127,9 @@ fn every_method_against_brute_force() {
             SkinningModel::Paper
         };
         for dedup in [false, true] {
-            let mut pipes: Vec<Pipeline> = Method::ALL
+            let mut pipes: Vec<One> = Method::ALL
                 .iter()
-                .map(|&m| Pipeline::new(&character, &env, m, options(dedup, model)))
+                .map(|&m| One::new(&character, &env, m, dedup, model))
                 .collect();
             let mut buffers = PoseBuffers::new(&character);
             for frame in 0..3u64 {
@@ -97,18 +144,19 @@ fn every_method_against_brute_force() {
                 let exact = brute_force(&character, &buffers.positions, &env);
                 contacts += exact.len();
                 for p in &mut pipes {
-                    let c = p.detect(&buffers, &character, &env);
+                    let c = p.detect(&buffers);
+                    let view = p.world.character(p.character).unwrap();
                     // What it skinned is what full skinning gives (on demand,
                     // or every vertex when most are tested).
                     assert!(c.skinned_vertices <= buffers.positions.len() as u64);
                     skinned_all +=
                         usize::from(c.skinned_vertices == buffers.positions.len() as u64);
                     for v in 0..buffers.positions.len() as u32 {
-                        if p.skinned().is_current(v) {
-                            assert_eq!(p.skinned().position(v), buffers.positions[v as usize]);
+                        if view.skinned().is_current(v) {
+                            assert_eq!(view.skinned().position(v), buffers.positions[v as usize]);
                         }
                     }
-                    let got: BTreeSet<(u32, u32)> = p.pairs.iter().copied().collect();
+                    let got: BTreeSet<(u32, u32)> = p.pairs().into_iter().collect();
                     assert_eq!(c.pairs as usize, got.len());
                     let m = p.method;
                     match (m.big_leaf_test(), dedup) {
@@ -131,17 +179,18 @@ fn every_method_against_brute_force() {
                     // character leaf with a big triangle's division leaf, one
                     // test per such leaf pair, none on the way down.
                     if m.big_leaf_test() == LeafTest::PlaneSphere && !m.prunes_at_plane() {
-                        let ctree = &p.character_tree.tree;
-                        let at_division: Vec<_> = p
-                            .leaf_pairs()
+                        let ctree = &view.tree().tree;
+                        let (room, _) = p.world.room(p.room).unwrap();
+                        let at_division: Vec<_> = view
+                            .room_leaf_pairs(p.room)
                             .iter()
-                            .filter(|lp| p.environment.is_division_leaf(lp.leaf_b))
+                            .filter(|lp| room.is_division_leaf(lp.leaf_b))
                             .collect();
                         assert_eq!(c.plane_sphere, at_division.len() as u64, "{m}");
                         leaf_plane_tests += at_division.len();
                         for lp in at_division {
                             assert!(ctree.node(lp.leaf_a).is_leaf(), "{m}");
-                            assert!(p.environment.tree.node(lp.leaf_b).is_leaf(), "{m}");
+                            assert!(room.tree.node(lp.leaf_b).is_leaf(), "{m}");
                         }
                     }
                     assert_eq!(
@@ -154,7 +203,7 @@ fn every_method_against_brute_force() {
                 // of what its leaf-only twin (the paper's reading) reports.
                 let pairs_of = |m: Method| -> BTreeSet<(u32, u32)> {
                     let p = pipes.iter().find(|p| p.method == m).unwrap();
-                    p.pairs.iter().copied().collect()
+                    p.pairs().into_iter().collect()
                 };
                 for (pruned, literal) in [
                     (Method::PlaneSpherePruned, Method::PlaneSphere),
@@ -184,15 +233,16 @@ fn every_method_against_brute_force() {
 
 #[test]
 fn same_inputs_same_counters_and_pairs() {
-    let character = common::random_character(3, 5, 200);
-    let env = environment(3);
+    let character = Arc::new(common::random_character(3, 5, 200));
+    let env = Arc::new(environment(3));
     let placement = Matrix4::new_translation(&Vector3::new(3.0, 3.0, 3.0));
     let run = || -> Vec<(FrameCounters, Vec<(u32, u32)>)> {
-        let mut p = Pipeline::new(
+        let mut p = One::new(
             &character,
             &env,
             Method::PlaneSphere,
-            options(true, SkinningModel::Linear),
+            true,
+            SkinningModel::Linear,
         );
         let mut b = PoseBuffers::new(&character);
         (0..4)
@@ -201,9 +251,9 @@ fn same_inputs_same_counters_and_pairs() {
                 b.local.copy_from_slice(&local);
                 b.pose_local(&character);
                 b.place(&placement);
-                let mut c = p.detect(&b, &character, &env);
+                let mut c = p.detect(&b);
                 c.time = Default::default();
-                (c, p.pairs.clone())
+                (c, p.pairs())
             })
             .collect()
     };
@@ -217,24 +267,33 @@ fn same_inputs_same_counters_and_pairs() {
 fn the_visit_log_changes_no_counter() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
     let r = cornertree_workbench::scenario::open_scenario(&path).unwrap();
-    let env = &r.environment.mesh;
+    let env = Arc::new(r.environment.mesh.clone());
+    let a = r.first();
     for m in Method::ALL {
-        let mut plain = Pipeline::new(&r.first().character, env, m, r.pipeline_options(r.first()));
-        let mut logged = Pipeline::new(&r.first().character, env, m, r.pipeline_options(r.first()));
-        logged.set_visit_log(true);
-        let mut b = PoseBuffers::new(&r.first().character);
+        let mut plain = One::new(&a.character, &env, m, r.dedup, a.skinning);
+        let mut logged = One::new(&a.character, &env, m, r.dedup, a.skinning);
+        logged.world.set_visit_log(true);
+        let mut b = PoseBuffers::new(&a.character);
         for k in 0..3 {
-            r.first().pose_frame(&mut b, k);
-            let mut c0 = plain.detect(&b, &r.first().character, env);
-            let mut c1 = logged.detect(&b, &r.first().character, env);
+            a.pose_frame(&mut b, k);
+            let mut c0 = plain.detect(&b);
+            let mut c1 = logged.detect(&b);
             c0.time = Default::default();
             c1.time = Default::default();
             assert_eq!(c0, c1, "{m} frame {k}");
             assert!(c0.pairs > 0, "{m} frame {k}: contacts");
-            assert_eq!(plain.leaf_pairs(), logged.leaf_pairs(), "{m} frame {k}");
-            assert_eq!(plain.pairs, logged.pairs, "{m} frame {k}");
-            assert!(plain.visit_log().is_none());
-            let log = logged.visit_log().unwrap();
+            let (v0, v1) = (
+                plain.world.character(plain.character).unwrap(),
+                logged.world.character(logged.character).unwrap(),
+            );
+            assert_eq!(
+                v0.room_leaf_pairs(plain.room),
+                v1.room_leaf_pairs(logged.room),
+                "{m} frame {k}"
+            );
+            assert_eq!(plain.pairs(), logged.pairs(), "{m} frame {k}");
+            assert!(v0.visit_log(plain.room).is_none());
+            let log = v1.visit_log(logged.room).unwrap();
             assert_eq!(log.sphere_tests(), c1.sphere_sphere, "{m} frame {k}");
         }
     }

@@ -6,10 +6,9 @@
 use std::path::Path;
 use std::sync::atomic::Ordering;
 
-use cornertree::character::PoseBuffers;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::Pipeline;
 use cornertree_workbench::scenario::open_scenario;
+use cornertree_workbench::session::Session;
 
 #[path = "common/counting_alloc.rs"]
 mod counting_alloc;
@@ -18,27 +17,30 @@ use counting_alloc::ALLOCATIONS;
 #[test]
 fn frames_after_the_first_allocate_nothing() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/touching.toml");
-    let r = open_scenario(&path).unwrap();
-    let options = r.pipeline_options(r.first());
-    let env = &r.environment.mesh;
+    let mut r = open_scenario(&path).unwrap();
+    r.methods = Method::ALL.to_vec();
     // Every method, without and with the visit log a recorder turns on.
-    let mut pipes: Vec<Pipeline> = Vec::new();
-    for log in [false, true] {
-        for m in Method::ALL {
-            let mut p = Pipeline::new(&r.first().character, env, m, options);
-            p.set_visit_log(log);
-            pipes.push(p);
-        }
-    }
-    let mut buffers = PoseBuffers::new(&r.first().character);
+    let mut sessions: Vec<Session> = [false, true]
+        .into_iter()
+        .map(|log| {
+            let mut s = Session::new(r.clone(), 1).unwrap();
+            for m in 0..s.worlds().len() {
+                s.world_mut(m).set_visit_log(log);
+            }
+            s
+        })
+        .collect();
     let frames = 12;
     let mut per_frame = Vec::with_capacity(frames);
     for k in 0..frames {
         let before = ALLOCATIONS.load(Ordering::Relaxed);
-        r.first().pose_frame(&mut buffers, k);
         let mut pairs = 0;
-        for p in &mut pipes {
-            pairs += p.detect(&buffers, &r.first().character, env).pairs;
+        for s in &mut sessions {
+            s.pose(k);
+            s.detect_all();
+            pairs += (0..s.worlds().len())
+                .map(|m| s.contacts(m).total.pairs)
+                .sum::<u64>();
         }
         per_frame.push(ALLOCATIONS.load(Ordering::Relaxed) - before);
         assert!(pairs > 0, "frame {k} has contacts");

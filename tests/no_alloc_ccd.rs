@@ -14,7 +14,7 @@ use counting_alloc::ALLOCATIONS;
 use cornertree::geometry::ccd_root_finder::CcdParams;
 use cornertree::pipeline::Method;
 use cornertree_workbench::scenario::open_scenario;
-use cornertree_workbench::world::{ContinuousWorld, World};
+use cornertree_workbench::session::Session;
 
 /// Every frame of `scenario` (its first `frames`) through the discrete
 /// frame and every method's continuous step, twice: the first pass sizes
@@ -31,8 +31,8 @@ fn allocations(
     r.frames = frames;
     r.dedup = false;
     r.methods = methods.to_vec();
-    let mut world = World::new(r, threads).unwrap();
-    let mut cw = ContinuousWorld::new(&world, CcdParams::default());
+    let mut world = Session::new(r, threads).unwrap();
+    world.enable_continuous(CcdParams::default());
     world.in_pool(|w| {
         let mut pass = || {
             w.seek(0);
@@ -40,7 +40,9 @@ fn allocations(
             for k in 0..frames {
                 let before = ALLOCATIONS.load(Ordering::Relaxed);
                 w.step();
-                cw.detect_all(w, k);
+                for m in 0..w.worlds().len() {
+                    w.sweep(m, k).unwrap();
+                }
                 per_frame.push(ALLOCATIONS.load(Ordering::Relaxed) - before);
             }
             per_frame

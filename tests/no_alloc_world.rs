@@ -12,19 +12,19 @@ use counting_alloc::ALLOCATIONS;
 
 use cornertree_workbench::scenario::open_scenario;
 
-/// A world's frames through [`cornertree_workbench::world::World`] on `threads`
+/// A world's frames through [`cornertree_workbench::session::Session`] on `threads`
 /// threads, the loop inside the world's pool: once to size every buffer (pair lists grow to the most pairs a
 /// frame has), then the same frames again, which must allocate nothing (the
 /// rayon pool's job queues included). Returns the allocations of each frame
 /// of both passes.
 fn world_allocations(scenario: &str, frames: usize, threads: usize) -> (Vec<u64>, Vec<u64>) {
-    use cornertree_workbench::world::World;
+    use cornertree_workbench::session::Session;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scenario);
     let mut r = open_scenario(&path).unwrap();
     r.frames = frames;
     r.dedup = false;
-    let mut world = World::new(r, threads).unwrap();
-    let pass = |world: &mut World| {
+    let mut world = Session::new(r, threads).unwrap();
+    let pass = |world: &mut Session| {
         world.seek(0);
         let mut per_frame = Vec::with_capacity(frames);
         loop {
@@ -36,7 +36,7 @@ fn world_allocations(scenario: &str, frames: usize, threads: usize) -> (Vec<u64>
         }
         per_frame
     };
-    // The frame loop on one of the world's threads (`World::in_pool`).
+    // The frame loop on one of the world's threads (`Session::in_pool`).
     world.in_pool(|w| {
         let first = pass(w);
         let second = pass(w);

@@ -13,16 +13,25 @@ use common::Scratch;
 use common::rrd::{LoggedSphere, Rrd, read_rrd};
 use cornertree::big_triangle::hierarchy::MAX_LEVELS;
 use cornertree::big_triangle::{Division, DivisionKind};
-use cornertree::character::PoseBuffers;
 use cornertree::geometry::Sphere;
 use cornertree::mesh::TriangleId;
-use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::{FrameCounters, Pipeline};
+use cornertree::pipeline::{FrameCounters, Method};
 use cornertree::sphere_tree::refit::{OnDemand, RefitState, Refitter};
 use cornertree::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse};
 use cornertree_workbench::record::figures::{dedup_example, example_big_triangle};
 use cornertree_workbench::record::layout;
 use cornertree_workbench::scenario::{Resolved, open_scenario};
+use cornertree_workbench::session::Session;
+
+/// The mesh, skeleton and spheres of the one character of a
+/// single-character scenario (its `[character]` section is named
+/// `character`).
+const AVATAR_MESH: &str = "world/characters/00_character/mesh";
+const AVATAR_SKELETON: &str = "world/characters/00_character/skeleton";
+const AVATAR_SPHERES: &str = "world/characters/00_character/spheres";
+/// The character's and the room's triangles in a reported pair.
+const COLLIDING_AVATAR: &str = "cd/colliding/environment/bodies";
+const COLLIDING_ROOM: &str = "cd/colliding/environment/room";
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_cornertree"))
@@ -68,16 +77,33 @@ fn mesh_positions() -> rerun::ComponentIdentifier {
     rerun::Mesh3D::descriptor_vertex_positions().component
 }
 
-/// The pipeline `run` builds for cesium_man.toml, built here from the library.
-fn cesium_pipeline(method: Method) -> (cornertree_workbench::scenario::Resolved, Pipeline) {
+/// The session `run` builds for `r` with `method` alone.
+fn session_of(r: &Resolved, method: Method) -> Session {
+    let mut r = r.clone();
+    r.methods = vec![method];
+    Session::new(r, 1).unwrap()
+}
+
+/// The session `run` builds for cesium_man.toml, built here from the library.
+fn cesium_session(method: Method) -> (Resolved, Session) {
     let r = open_scenario(&cesium_scenario()).unwrap();
-    let p = Pipeline::new(
-        &r.first().character,
-        &r.environment.mesh,
-        method,
-        r.pipeline_options(r.first()),
-    );
-    (r, p)
+    let s = session_of(&r, method);
+    (r, s)
+}
+
+/// The character tree of `s`'s one character in its one world.
+fn character_tree(s: &Session) -> SphereTree {
+    s.world(0)
+        .character(s.character(0))
+        .unwrap()
+        .tree()
+        .tree
+        .clone()
+}
+
+/// The room tree of `s`'s one world.
+fn room_tree(s: &Session) -> SphereTree {
+    s.world(0).room(s.room()).unwrap().0.tree.clone()
 }
 
 fn levels_logged(rrd: &Rrd, root: &str) -> usize {
@@ -117,13 +143,13 @@ fn run_recording_has_the_layout_and_the_reported_values() {
     let paths = rrd.entity_paths();
     for p in [
         layout::ENV_MESH,
-        layout::AVATAR_MESH,
-        layout::AVATAR_SKELETON,
-        "world/avatar/spheres/level_00",
+        AVATAR_MESH,
+        AVATAR_SKELETON,
+        "world/characters/00_character/spheres/level_00",
         "world/environment/spheres/level_00",
         layout::ENV_SUBDIVISION,
-        layout::COLLIDING_AVATAR,
-        layout::COLLIDING_ENVIRONMENT,
+        COLLIDING_AVATAR,
+        COLLIDING_ROOM,
         layout::COLLIDING_SPHERES,
         layout::EVENTS,
         layout::FRAME_REPORT,
@@ -141,7 +167,7 @@ fn run_recording_has_the_layout_and_the_reported_values() {
     for p in layout::COUNTER_PATHS {
         assert_eq!(rrd.frames(p), expected, "{p}");
     }
-    assert_eq!(rrd.frames(layout::AVATAR_MESH), expected);
+    assert_eq!(rrd.frames(AVATAR_MESH), expected);
 
     // Logged counters equal the JSON report, frame by frame.
     let report: serde_json::Value =
@@ -168,14 +194,14 @@ fn run_recording_has_the_layout_and_the_reported_values() {
     let pairs_logged = rrd.scalars("stats/pairs");
 
     // Static scene: the whole environment mesh, once.
-    let (resolved, pipeline) = cesium_pipeline(Method::PlaneSphere);
+    let (resolved, session) = cesium_session(Method::PlaneSphere);
     let env_rows = rrd.rows(layout::ENV_MESH, mesh_positions());
     assert_eq!(
         env_rows,
         vec![(None, resolved.environment.mesh.vertex_count())]
     );
     // The character's mesh every frame, every vertex.
-    for (t, n) in rrd.counts_per_frame(layout::AVATAR_MESH, mesh_positions()) {
+    for (t, n) in rrd.counts_per_frame(AVATAR_MESH, mesh_positions()) {
         assert_eq!(
             n,
             resolved.first().character.mesh.vertex_count(),
@@ -184,12 +210,12 @@ fn run_recording_has_the_layout_and_the_reported_values() {
     }
 
     // Character spheres shown = spheres refit this frame (visited on demand).
-    let levels = levels_logged(&rrd, layout::AVATAR_SPHERES);
-    assert_eq!(levels, pipeline.character_tree.tree.depth());
+    let levels = levels_logged(&rrd, AVATAR_SPHERES);
+    assert_eq!(levels, character_tree(&session).depth());
     for (k, f) in report_frames.iter().enumerate() {
         let shown: usize = (0..levels)
             .map(|l| {
-                rrd.counts_per_frame(&layout::level_path(layout::AVATAR_SPHERES, l), positions())
+                rrd.counts_per_frame(&layout::level_path(AVATAR_SPHERES, l), positions())
                     [&(k as i64)]
             })
             .sum();
@@ -199,7 +225,7 @@ fn run_recording_has_the_layout_and_the_reported_values() {
         let pairs = f["pairs"].as_array().unwrap();
         assert_eq!(pairs.len() as f64, pairs_logged[&(k as i64)]);
         let avatar: BTreeSet<u64> = pairs.iter().map(|p| p[0].as_u64().unwrap()).collect();
-        let hit = rrd.counts_per_frame(layout::COLLIDING_AVATAR, mesh_positions());
+        let hit = rrd.counts_per_frame(COLLIDING_AVATAR, mesh_positions());
         assert_eq!(hit[&(k as i64)], 3 * avatar.len(), "frame {k}");
     }
 }
@@ -223,15 +249,11 @@ fn all_spheres_option_logs_every_level_of_both_trees() {
         None,
     );
     let rrd = read_rrd(&rrd_path);
-    let (_, pipeline) = cesium_pipeline(Method::PlaneSphere);
-    let avatar_levels = pipeline.character_tree.tree.nodes_per_level();
-    assert_eq!(
-        levels_logged(&rrd, layout::AVATAR_SPHERES),
-        avatar_levels.len()
-    );
+    let (_, session) = cesium_session(Method::PlaneSphere);
+    let avatar_levels = character_tree(&session).nodes_per_level();
+    assert_eq!(levels_logged(&rrd, AVATAR_SPHERES), avatar_levels.len());
     for (l, &n) in avatar_levels.iter().enumerate() {
-        let counts =
-            rrd.counts_per_frame(&layout::level_path(layout::AVATAR_SPHERES, l), positions());
+        let counts = rrd.counts_per_frame(&layout::level_path(AVATAR_SPHERES, l), positions());
         assert_eq!(counts.len(), 2, "level {l}: every frame");
         assert!(
             counts.values().all(|&c| c == n),
@@ -245,7 +267,7 @@ fn all_spheres_option_logs_every_level_of_both_trees() {
     for (k, m) in measured.iter().enumerate() {
         let shown: BTreeSet<LoggedSphere> = (0..avatar_levels.len())
             .flat_map(|l| {
-                rrd.points(&layout::level_path(layout::AVATAR_SPHERES, l))
+                rrd.points(&layout::level_path(AVATAR_SPHERES, l))
                     .remove(&(k as i64))
                     .unwrap_or_default()
             })
@@ -254,7 +276,7 @@ fn all_spheres_option_logs_every_level_of_both_trees() {
             assert!(shown.contains(s), "frame {k}: {s:?}");
         }
     }
-    let env_levels = pipeline.environment.tree.nodes_per_level();
+    let env_levels = room_tree(&session).nodes_per_level();
     assert_eq!(levels_logged(&rrd, layout::ENV_SPHERES), env_levels.len());
     for (l, &n) in env_levels.iter().enumerate() {
         let rows = rrd.rows(&layout::level_path(layout::ENV_SPHERES, l), positions());
@@ -350,25 +372,24 @@ impl Hierarchy for Marking<'_> {
 
 /// Plays `frames` frames of `method` with the visit log on, checking each
 /// frame's log against the counters; beside it, the unguarded traversal of
-/// the same pose with a refit state of its own.
-fn measure(r: &Resolved, method: Method, frames: usize) -> (Pipeline, Vec<Measured>) {
-    let env = &r.environment.mesh;
-    let mut p = Pipeline::new(
-        &r.first().character,
-        env,
-        method,
-        r.pipeline_options(r.first()),
-    );
-    p.set_visit_log(true);
-    let mut own = RefitState::new(&p.character_tree, r.first().character.skeleton.len());
+/// the same pose with a refit state of its own. Returns the session (with
+/// its one world) and the frames.
+fn measure(r: &Resolved, method: Method, frames: usize) -> (Session, Vec<Measured>) {
+    let mut session = session_of(r, method);
+    session.world_mut(0).set_visit_log(true);
+    let (h, room) = (session.character(0), session.room());
+    let ctree = session.world(0).character(h).unwrap().tree().clone();
+    let env_tree = room_tree(&session);
+    let mut own = RefitState::new(&ctree, r.first().character.skeleton.len());
     let mut ws = Workspace::new();
-    let mut buffers = PoseBuffers::new(&r.first().character);
-    let parents = p.environment.tree.parents();
+    let parents = env_tree.parents();
     let mut out = Vec::new();
     for k in 0..frames {
-        r.first().pose_frame(&mut buffers, k);
-        let counters = p.detect(&buffers, &r.first().character, env);
-        let log = p.visit_log().expect("the log is on");
+        session.pose(k);
+        session.detect(0);
+        let counters = session.contacts(0).total;
+        let view = session.world(0).character(h).unwrap();
+        let log = view.visit_log(room).expect("the log is on");
         let tested: BTreeSet<u32> = log.tested_nodes().map(|n| n.0).collect();
         for n in &tested {
             assert!(log.is_tested(NodeId(*n)));
@@ -389,7 +410,7 @@ fn measure(r: &Resolved, method: Method, frames: usize) -> (Pipeline, Vec<Measur
                 assert!(tested.contains(&parents[n as usize]), "{method}: {n}");
             }
         }
-        for lp in p.leaf_pairs() {
+        for lp in view.room_leaf_pairs(room) {
             assert!(
                 tested.contains(&lp.leaf_b.0),
                 "{method}: leaf {:?}",
@@ -397,22 +418,23 @@ fn measure(r: &Resolved, method: Method, frames: usize) -> (Pipeline, Vec<Measur
             );
         }
 
-        own.begin_frame_with_base(&buffers.skin, &buffers.base);
+        let pose = view.pose();
+        own.begin_frame_with_base(pose.skin, pose.base);
         let mut character = OnDemand {
             refitter: Refitter {
-                tree: &p.character_tree,
-                skin: &buffers.skin,
+                tree: &ctree,
+                skin: pose.skin,
                 state: &mut own,
             },
-            base: buffers.base,
+            base: *pose.base,
         };
         let mut marking = Marking {
-            tree: &p.environment.tree,
+            tree: &env_tree,
             marked: BTreeSet::new(),
         };
         let unguarded = traverse(&mut character, &mut marking, &mut ws, |_| {});
 
-        let state = p.refit_state();
+        let state = view.refit_state();
         let refit: Vec<LoggedSphere> = (0..state.spheres.len())
             .filter(|&i| state.is_fresh(NodeId(i as u32)))
             .map(|i| logged(&state.spheres[i]))
@@ -429,7 +451,7 @@ fn measure(r: &Resolved, method: Method, frames: usize) -> (Pipeline, Vec<Measur
             refit,
         });
     }
-    (p, out)
+    (session, out)
 }
 
 /// Level of every node (the root is 0), from the parent links.
@@ -485,10 +507,10 @@ fn recorded_tested_spheres_are_the_timed_traversals_for_every_method() {
     let recordings = record(&scratch, &scenario, &Method::ALL, frames);
     let r = open_scenario(&scenario).unwrap();
     for (&method, rrd) in Method::ALL.iter().zip(&recordings) {
-        let (p, measured) = measure(&r, method, frames);
-        let env_tree = &p.environment.tree;
+        let (session, measured) = measure(&r, method, frames);
+        let env_tree = &room_tree(&session);
         let env_levels = env_tree.depth();
-        let avatar_levels = p.character_tree.tree.depth();
+        let avatar_levels = character_tree(&session).depth();
         let ss = rrd.scalars("stats/tests/sphere_sphere");
         let mut seen = 0;
         let mut pruned_tests = false;
@@ -521,7 +543,7 @@ fn recorded_tested_spheres_are_the_timed_traversals_for_every_method() {
             // Character spheres: exactly those the measured frame refit.
             let mut avatar: Vec<LoggedSphere> = (0..avatar_levels)
                 .flat_map(|l| {
-                    rrd.points(&layout::level_path(layout::AVATAR_SPHERES, l))
+                    rrd.points(&layout::level_path(AVATAR_SPHERES, l))
                         .remove(&(k as i64))
                         .unwrap_or_default()
                 })

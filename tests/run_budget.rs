@@ -15,8 +15,8 @@ use std::sync::atomic::Ordering;
 
 use alloc::{CURRENT, PEAK};
 use cornertree_workbench::scenario::{RunLimits, Scenario, resolve_with};
-use cornertree_workbench::truth::{FrameTruth, WorldTruth};
-use cornertree_workbench::world::World;
+use cornertree_workbench::session::Session;
+use cornertree_workbench::truth::Truth;
 
 #[global_allocator]
 static GLOBAL: alloc::Tracking = alloc::Tracking;
@@ -35,28 +35,12 @@ fn measure(name: &str, text: &str) -> (usize, usize) {
     let s = Scenario::parse(text, &path).unwrap();
     let r = resolve_with(&s, path.parent().unwrap(), &RunLimits::default()).unwrap();
     let estimate = r.estimated_bytes;
-    let is_world = r.characters.len() > 1 || !r.objects.is_empty();
-    let mut world = World::new(r, 2).unwrap();
+    let mut world = Session::new(r, 2).unwrap();
     world.pose(0);
     world.skin_all();
-    if is_world {
-        let mut t = WorldTruth::new(&world.scene).unwrap();
-        t.update(&world.scene, &world.buffers, &world.object_poses)
-            .unwrap();
-    } else {
-        let first = world.scene.first();
-        let mut t = FrameTruth::new(
-            &world.scene.environment.mesh,
-            first.character.mesh.indices(),
-        )
+    let mut t = Truth::new(&world.scene).unwrap();
+    t.update(&world.scene, &world.buffers, &world.object_poses)
         .unwrap();
-        t.update(
-            &world.buffers[0].positions,
-            first.character.mesh.indices(),
-            &world.scene.environment.mesh,
-        )
-        .unwrap();
-    }
     world.detect_all();
     drop(world);
     let peak = PEAK.load(Ordering::Relaxed) - before;

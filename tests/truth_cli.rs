@@ -237,9 +237,9 @@ fn plane_sphere_false_positives_are_in_the_recording_with_distances() {
         "cesium_man 1 cm from a wall gives plane-sphere false positives"
     );
     for p in [
-        "cd/false_positive/avatar",
-        "cd/false_positive/environment",
-        "cd/false_negative/avatar",
+        "cd/false_positive/environment/bodies",
+        "cd/false_positive/environment/room",
+        "cd/false_negative/environment/bodies",
         "stats/accuracy/pair_precision",
         "stats/reference_pairs",
     ] {

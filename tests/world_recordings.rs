@@ -82,7 +82,8 @@ fn handshake_recording_has_every_character_and_the_counters_per_kind() {
         "cd/colliding/environment/room",
         "cd/false_positive/characters/bodies",
         "cd/false_negative/characters/bodies",
-        "stats/total/wall_ms",
+        "stats/wall_ms",
+        "stats/body_pairs",
         "frame_report",
         "info",
     ] {
@@ -95,7 +96,7 @@ fn handshake_recording_has_every_character_and_the_counters_per_kind() {
     // Every kind's counters are the report's, frame by frame.
     for kind in PairKind::ALL {
         for counter in ["pairs", "sphere_sphere", "tri_tri", "operations"] {
-            let logged = rrd.scalars(&format!("stats/{counter}/{}", kind.name()));
+            let logged = rrd.scalars(&format!("stats/by_kind/{counter}/{}", kind.name()));
             assert_eq!(logged.len(), frames, "{counter} {}", kind.name());
             for (k, f) in report.iter().enumerate() {
                 let want = f["by_kind"][kind.name()][counter].as_f64().unwrap();

@@ -8,8 +8,8 @@ use std::path::Path;
 use cornertree::pipeline::Method;
 use cornertree::world::PairKind;
 use cornertree_workbench::scenario::{Scenario, open_scenario};
-use cornertree_workbench::truth::WorldTruth;
-use cornertree_workbench::world::World;
+use cornertree_workbench::session::Session;
+use cornertree_workbench::truth::Truth;
 
 fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -26,8 +26,8 @@ fn exact_on_every_frame(name: &str, kind: PairKind) {
         Method::PrunedTriTri,
         Method::UndividedPrunedTriTri,
     ];
-    let mut world = World::new(r, 0).unwrap();
-    let mut truth = WorldTruth::new(&world.scene).unwrap();
+    let mut world = Session::new(r, 0).unwrap();
+    let mut truth = Truth::new(&world.scene).unwrap();
     let mut with_contact = 0;
     let frames = world.frames();
     for k in 0..frames {
@@ -43,22 +43,19 @@ fn exact_on_every_frame(name: &str, kind: PairKind) {
             PairKind::Characters => truth.exact.characters.len(),
         };
         with_contact += usize::from(exact_of_kind > 0);
-        for m in &world.methods {
-            let o = &m.outcome;
+        for (m, method) in world.methods().enumerate() {
+            let o = world.contacts(m);
             assert_eq!(
                 o.room_pairs, truth.exact.environment,
-                "{name} frame {k} {} room",
-                m.method
+                "{name} frame {k} {method} room"
             );
             assert_eq!(
                 o.object_pairs, truth.exact.objects,
-                "{name} frame {k} {} objects",
-                m.method
+                "{name} frame {k} {method} objects"
             );
             assert_eq!(
                 o.character_pairs, truth.exact.characters,
-                "{name} frame {k} {} characters",
-                m.method
+                "{name} frame {k} {method} characters"
             );
         }
     }
@@ -89,13 +86,13 @@ fn one_thread_and_two_give_the_same_outcome() {
     let mut r = open_scenario(&root().join("scenarios/crowd.toml")).unwrap();
     r.frames = 12;
     r.methods = vec![Method::PlaneSpherePruned, Method::PrunedTriTri];
-    let mut one = World::new(r.clone(), 1).unwrap();
-    let mut two = World::new(r, 2).unwrap();
+    let mut one = Session::new(r.clone(), 1).unwrap();
+    let mut two = Session::new(r, 2).unwrap();
     let mut character_pairs = 0;
     while let (Some(a), Some(b)) = (one.step(), two.step()) {
         assert_eq!(a, b);
-        for (x, y) in one.methods.iter().zip(&two.methods) {
-            let (x, y) = (&x.outcome, &y.outcome);
+        for (x, y) in one.worlds().iter().zip(two.worlds()) {
+            let (x, y) = (x.contacts(), y.contacts());
             assert_eq!(x.room_pairs, y.room_pairs);
             assert_eq!(x.object_pairs, y.object_pairs);
             assert_eq!(x.character_pairs, y.character_pairs);

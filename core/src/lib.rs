@@ -16,6 +16,8 @@
 //! | [`choice`] | the names of methods, skinning models and refit rules, parsed back |  |
 //! | [`world`] | several characters, moving objects and a room on one frame loop | §1, §6 |
 
+#![warn(missing_docs)]
+
 pub mod big_triangle;
 pub mod character;
 pub mod choice;
@@ -23,7 +25,7 @@ pub mod geometry;
 pub mod io;
 pub mod mesh;
 pub mod pipeline;
-pub mod prefetch;
+pub(crate) mod prefetch;
 pub mod sphere_tree;
 pub mod world;
 

@@ -3,8 +3,8 @@
 //! sub-steps of every frame step (docs/ccd.md, "Cost").
 //!
 //! **Timing.** Per frame every body is posed once; then, per method and in
-//! alternating order, the discrete frame ([`World::detect_method`]) and the
-//! continuous step ending at that frame ([`ContinuousWorld::detect`]: both
+//! alternating order, the discrete frame ([`Session::detect`]) and the
+//! continuous step ending at that frame ([`Session::sweep`]: both
 //! ends refit on demand, the previous end's states reused). Frame 0 has no
 //! step and is left out of both. Each side's time per frame is the median.
 //!
@@ -31,13 +31,14 @@ use nalgebra::{Isometry3, Matrix4};
 use serde::Serialize;
 
 use crate::scenario::Resolved;
+use crate::session::{Session, SessionError};
 use crate::truth::substep::{StepBodies, SubstepTruth};
 use crate::truth::substep_score::StepPair;
-use crate::world::{ContinuousWorld, MethodOutcome, World};
 use cornertree::character::PoseBuffers;
 use cornertree::geometry::Point;
 use cornertree::geometry::ccd_root_finder::CcdParams;
 use cornertree::pipeline::Method;
+use cornertree::world::StepContacts;
 
 use super::measure::median;
 
@@ -106,7 +107,7 @@ pub struct CcdBench {
 /// Poses every body of `world` at `t` of the step from `prev` (characters)
 /// and `prev_poses` (objects) to `end` and `end_poses` (module doc).
 pub fn pose_between(
-    world: &mut World,
+    world: &mut Session,
     prev: &[PoseBuffers],
     prev_poses: &[Isometry3<f32>],
     end: &[PoseBuffers],
@@ -134,14 +135,14 @@ pub fn pose_between(
 }
 
 /// Every pair a discrete outcome reports, as [`StepPair`]s.
-fn discrete_pairs(o: &MethodOutcome, out: &mut Vec<StepPair>) {
+fn discrete_pairs(o: &StepContacts, out: &mut Vec<StepPair>) {
     out.extend(o.room_pairs.iter().map(|&p| StepPair::Environment(p)));
     out.extend(o.object_pairs.iter().map(|&p| StepPair::Objects(p)));
     out.extend(o.character_pairs.iter().map(|&p| StepPair::Characters(p)));
 }
 
 /// A step's reference contacts with their runs of touching sub-steps.
-struct StepContacts {
+struct StepReference {
     prev: Vec<PoseBuffers>,
     prev_poses: Vec<Isometry3<f32>>,
     end: Vec<PoseBuffers>,
@@ -156,18 +157,18 @@ struct StepContacts {
 /// The body pair of a pair: kind, character, other body.
 fn body_pair(p: &StepPair) -> (u8, u32, u32) {
     match *p {
-        StepPair::Environment(q) => (0, q.character, 0),
-        StepPair::Objects(q) => (1, q.character, q.object),
-        StepPair::Characters(q) => (2, q.a, q.b),
+        StepPair::Environment(q) => (0, q.character.0, q.room.0),
+        StepPair::Objects(q) => (1, q.character.0, q.object.0),
+        StepPair::Characters(q) => (2, q.a.0, q.b.0),
     }
 }
 
 /// Method `m`'s discrete pairs at the `k + 1` sub-steps `i / k` of step
 /// `s`, sorted and distinct, into `found`; returns the milliseconds taken.
 fn substep_pairs(
-    world: &mut World,
+    world: &mut Session,
     m: usize,
-    s: &StepContacts,
+    s: &StepReference,
     k: u32,
     found: &mut Vec<StepPair>,
 ) -> f64 {
@@ -182,8 +183,8 @@ fn substep_pairs(
             &s.end_poses,
             sub as f32 / k as f32,
         );
-        world.detect_method(m);
-        discrete_pairs(&world.methods[m].outcome, found);
+        world.detect(m);
+        discrete_pairs(world.contacts(m), found);
     }
     let ms = t0.elapsed().as_secs_f64() * 1e3;
     found.sort_unstable();
@@ -193,7 +194,7 @@ fn substep_pairs(
 
 /// Whether `k` sub-steps can find every contact: each has some `i / k`
 /// inside one of its runs widened by a reference sub-step each way (open).
-fn may_find_all(step: &StepContacts, n: u32, k: u32) -> bool {
+fn may_find_all(step: &StepReference, n: u32, k: u32) -> bool {
     step.runs.iter().all(|runs| {
         runs.iter().any(|&(a, b)| {
             let (lo, hi) = ((a as f64 - 1.0) / n as f64, (b as f64 + 1.0) / n as f64);
@@ -216,20 +217,23 @@ pub fn measure_ccd(
     threads: usize,
     max_k: u32,
     mut tick: impl FnMut(),
-) -> Result<CcdBench, rayon::ThreadPoolBuildError> {
+) -> Result<CcdBench, SessionError> {
     let substeps = scene.ccd_substeps;
-    let mut world = World::new(scene, threads)?;
+    let mut world = Session::new(scene, threads)?;
     world.set_refit_timing(false);
-    let mut cw = ContinuousWorld::new(&world, CcdParams::default());
+    world.enable_continuous(CcdParams::default());
     let mut truth = SubstepTruth::new(&world.scene, substeps);
-    let n = world.methods.len();
+    let n = world.worlds().len();
+    // The previous frame's poses (the start of each step).
+    let mut prev_buffers: Vec<PoseBuffers> = Vec::new();
+    let mut prev_object_poses: Vec<Isometry3<f32>> = Vec::new();
     let mut pose_ms = Vec::with_capacity(frames);
     let mut disc_ms = vec![Vec::with_capacity(frames); n];
     let mut cont_ms = vec![Vec::with_capacity(frames); n];
     let (mut disc_ops, mut cont_ops) = (vec![0u64; n], vec![0u64; n]);
     let (mut disc_pairs, mut cont_pairs, mut kernel) =
         (vec![0u64; n], vec![0u64; n], vec![0u64; n]);
-    let mut steps: Vec<StepContacts> = Vec::new();
+    let mut steps: Vec<StepReference> = Vec::new();
     let mut prev_positions: Vec<Vec<Point>> = Vec::new();
     let mut reference_contacts = 0;
     for k in 0..frames {
@@ -238,19 +242,18 @@ pub fn measure_ccd(
         for i in 0..n {
             for continuous_first in [k % 2 == 0, k % 2 != 0] {
                 if continuous_first {
-                    cw.detect(&mut world, k, i);
-                    let o = cw.outcome(i);
+                    let o = world.sweep(i, k)?;
                     if k > 0 {
                         cont_ms[i].push(pose + o.wall_ms);
                         cont_ops[i] += o.total.operations();
-                        cont_pairs[i] += o.pair_count() as u64;
-                        kernel[i] += o.ccd.kernel_tests;
+                        cont_pairs[i] += o.len() as u64;
+                        kernel[i] += o.extra.kernel_tests;
                     }
                 } else {
-                    world.detect_method(i);
-                    let o = &world.methods[i].outcome;
+                    world.detect(i);
+                    let o = world.contacts(i);
                     if k > 0 {
-                        disc_ms[i].push(pose + o.wall_ms);
+                        disc_ms[i].push(pose + world.detect_ms(i));
                         disc_ops[i] += o.total.operations();
                         disc_pairs[i] += o.total.pairs;
                     }
@@ -263,7 +266,7 @@ pub fn measure_ccd(
         // The reference of the step (not timed).
         world.skin_all();
         if k > 0 {
-            let prev_poses = cw.start_poses().to_vec();
+            let prev_poses = prev_buffers.clone();
             let bodies = StepBodies {
                 scene: &world.scene,
                 start: prev_positions.iter().map(Vec::as_slice).collect(),
@@ -272,7 +275,7 @@ pub fn measure_ccd(
                     .iter()
                     .map(|b| b.positions.as_slice())
                     .collect(),
-                object_start: cw.start_object_poses(),
+                object_start: &prev_object_poses,
                 object_end: &world.object_poses,
             };
             truth.update(&bodies);
@@ -310,10 +313,10 @@ pub fn measure_ccd(
                     contacts.iter().map(|c| body_pair(&c.0)).collect();
                 bodies.sort_unstable();
                 bodies.dedup();
-                steps.push(StepContacts {
+                steps.push(StepReference {
                     body_pairs: bodies.len(),
                     prev: prev_poses,
-                    prev_poses: cw.start_object_poses().to_vec(),
+                    prev_poses: prev_object_poses.clone(),
                     end: world.buffers.clone(),
                     end_poses: world.object_poses.clone(),
                     runs: contacts.iter().map(|c| c.1.clone()).collect(),
@@ -322,7 +325,8 @@ pub fn measure_ccd(
             }
         }
         prev_positions = world.buffers.iter().map(|b| b.positions.clone()).collect();
-        cw.end_frame(&world, k);
+        prev_buffers.clone_from(&world.buffers);
+        prev_object_poses.clone_from(&world.object_poses);
         tick();
     }
 
@@ -331,7 +335,7 @@ pub fn measure_ccd(
     let mut methods = Vec::with_capacity(n);
     for i in 0..n {
         // Contacts and body pairs found at `k` sub-steps, over the steps.
-        let tally = |world: &mut World, k: u32, found: &mut Vec<StepPair>| {
+        let tally = |world: &mut Session, k: u32, found: &mut Vec<StepPair>| {
             let (mut contacts, mut bodies, mut every) = (0, 0, true);
             for s in &steps {
                 substep_pairs(world, i, s, k, found);
@@ -361,7 +365,7 @@ pub fn measure_ccd(
             (1..=max_k).find(|&k| tally(&mut world, k, &mut found).2)
         };
         let exact =
-            world.methods[i].method.big_leaf_test() == cornertree::pipeline::LeafTest::TriTri;
+            world.world(i).method().big_leaf_test() == cornertree::pipeline::LeafTest::TriTri;
         let mut tried = Vec::new();
         let mut answer = None;
         for k in 1..=max_k {
@@ -391,7 +395,7 @@ pub fn measure_ccd(
         let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
         let naive_ms = answer.map(|(_, ms)| ms);
         methods.push(CcdMethodBench {
-            method: world.methods[i].method,
+            method: world.world(i).method(),
             discrete_ms_per_frame: disc,
             continuous_ms_per_frame: cont,
             continuous_vs_discrete: ratio(cont, disc),

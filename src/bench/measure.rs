@@ -3,7 +3,7 @@
 //! Per frame every body is posed once (joint matrices, object poses), which
 //! every side needs and is charged with. The baseline then skins every vertex
 //! (parry's BVHs need them all), moves its meshes and finds its pairs
-//! ([`ParryWorld`]). Each method runs [`World::detect_method`] (refit on
+//! ([`ParryWorld`]). Each method runs [`Session::detect`] (refit on
 //! demand, traversal, skinning only the vertices its narrow phase reads, the
 //! narrow phase, every pair kind) on all of the world's threads and again on
 //! one thread, which gives its parallel speed-up in the same run.
@@ -22,9 +22,10 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::scenario::Resolved;
+use crate::session::{Session, SessionError};
 use crate::truth::{ParryWorld, TruthError};
-use crate::world::{MethodOutcome, World};
 use cornertree::pipeline::Method;
+use cornertree::world::StepContacts;
 
 /// One method's measurement.
 #[derive(Clone, Debug, Serialize)]
@@ -92,7 +93,7 @@ pub(super) fn median(v: &mut [f64]) -> f64 {
     v[v.len() / 2]
 }
 
-fn same_pairs(o: &MethodOutcome, parry: &ParryWorld) -> bool {
+fn same_pairs(o: &StepContacts, parry: &ParryWorld) -> bool {
     o.room_pairs == parry.pairs.environment
         && o.object_pairs == parry.pairs.objects
         && o.character_pairs == parry.pairs.characters
@@ -101,8 +102,8 @@ fn same_pairs(o: &MethodOutcome, parry: &ParryWorld) -> bool {
 /// Errors of a measurement.
 #[derive(Debug, thiserror::Error)]
 pub enum BenchError {
-    #[error("building the thread pool: {0}")]
-    Threads(#[from] rayon::ThreadPoolBuildError),
+    #[error("{0}")]
+    Session(#[from] SessionError),
     #[error("parry baseline: {0}")]
     Parry(#[from] TruthError),
 }
@@ -118,11 +119,11 @@ pub fn measure(
     threads: usize,
     mut tick: impl FnMut(),
 ) -> Result<Bench, BenchError> {
-    let mut world = World::new(scene, threads)?;
+    let mut world = Session::new(scene, threads)?;
     // Refit is timed with traversal: splitting it costs time.
     world.set_refit_timing(false);
     let mut parry = ParryWorld::new(&world.scene)?;
-    let n = world.methods.len();
+    let n = world.worlds().len();
     let mut pose_ms = Vec::with_capacity(frames * n);
     let mut pose_one_ms = Vec::with_capacity(frames * n.max(1));
     let mut skin_all_ms = Vec::with_capacity(frames * (2 * n).max(1));
@@ -136,7 +137,7 @@ pub fn measure(
     // The baseline's frame `k`, posed on its one thread (its time, posing
     // included, and its skinning time recorded). Posing on the pool would
     // leave its threads spinning beside the baseline's frame.
-    let mut parry_frame = |world: &mut World, parry: &mut ParryWorld, k: usize| {
+    let mut parry_frame = |world: &mut Session, parry: &mut ParryWorld, k: usize| {
         world.pose_on_one_thread(k);
         let pose = world.pose_ms;
         let t0 = Instant::now();
@@ -156,15 +157,15 @@ pub fn measure(
                 if one_thread {
                     world.pose_on_one_thread(k);
                     pose_one_ms.push(world.pose_ms);
-                    world.detect_method_on_one_thread(i);
+                    world.detect_on_one_thread(i);
                 } else {
                     world.pose(k);
                     pose_ms.push(world.pose_ms);
-                    world.detect_method(i);
+                    world.detect(i);
                 }
                 let pose = world.pose_ms;
-                let o = &world.methods[i].outcome;
-                let ms = pose + o.wall_ms;
+                let o = world.contacts(i);
+                let ms = pose + world.detect_ms(i);
                 if one_thread {
                     one_ms[i].push(ms);
                 } else {
@@ -172,7 +173,7 @@ pub fn measure(
                     skin_ms[i].push(o.total.time.skinning_ms);
                 }
             }
-            let o = &world.methods[i].outcome;
+            let o = world.contacts(i);
             ops[i] += o.total.operations();
             skinned[i] += o.total.skinned_vertices;
             pairs[i] += o.total.pairs;
@@ -196,7 +197,7 @@ pub fn measure(
             let one = median(&mut one_ms[i]);
             let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { 0.0 };
             MethodBench {
-                method: world.methods[i].method,
+                method: world.world(i).method(),
                 ms_per_frame: all,
                 ms_per_frame_one_thread: one,
                 parallel_speedup: ratio(one, all),

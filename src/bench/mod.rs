@@ -1,4 +1,4 @@
-//! Cost per frame: every method on one [`crate::world::World`] against the
+//! Cost per frame: every method's world of one [`crate::session::Session`] against the
 //! parry3d baseline ([`crate::truth::ParryWorld`]), measured in one run, and
 //! the scenario variants of the scaling studies.
 //!

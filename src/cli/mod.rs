@@ -8,8 +8,8 @@
 //! | [`tables`] | `tables`: Table 1 and each method's hierarchy sizes |
 //! | [`run`] | `run`: a scenario through its methods, recorded |
 //! | [`compare`] | `compare`: every method against the ground truth |
-//! | [`play`] | the frame loop `run` and `compare` observe (truth, report, recordings, dumps) |
-//! | [`play_ccd`] | `run --ccd`'s observer: continuous detection per step, its reference, report and recording |
+//! | [`play`] | the frame loop `run` and `compare` share: a session of the scenario's methods, stepped frame by frame |
+//! | [`observe`] | what watches that loop: the ground truth, `--ccd`, the report, the recordings, a frame dump, the progress bar |
 //! | [`bench`] | `bench`: cost per frame against the parry3d baseline |
 //! | [`scaling`] | `scaling`: cost against character, room and crowd size |
 //! | [`figures`] | `figures`: recordings of the paper's Figures 1-3 |
@@ -24,8 +24,8 @@ pub mod compare;
 pub mod figures;
 pub mod inspect;
 pub mod kernels;
+pub mod observe;
 pub mod play;
-pub mod play_ccd;
 pub mod run;
 pub mod scaling;
 pub mod study;

@@ -8,38 +8,73 @@ use rerun::blueprint::{
 
 use super::layout;
 
-/// A run. Left: the contacts close up (character mesh and skeleton, colliding
-/// triangles, environment spheres and sub-triangles reached), the character's
-/// spheres of level `sphere_level` (any other level can be switched on in
-/// the blueprint panel), and the whole scene. Right: the counters as time
-/// series (colliding pairs beside precision and recall); this frame's
-/// report, the event log and the scenario.
-pub fn run_blueprint(sphere_level: usize) -> Blueprint {
+/// A run, of one character or a world. Left: the bodies close up (meshes,
+/// skeletons, the colliding triangles coloured by pair kind with the room's
+/// side as outlines, the room spheres and sub-triangles the traversal
+/// reached), each character's refit spheres of level `sphere_level` (the
+/// other levels, and the objects' spheres, can be switched on in the
+/// blueprint panel), and the whole scene. Right: the tests and refits, the
+/// operations and colliding pairs per kind (and the exact pairs), precision
+/// and recall per kind and in total, the time per stage; this frame's
+/// report, the event log and the scenario. Views list bodies by wildcard,
+/// so the layout is the same for one character or a crowd.
+pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: usize) -> Blueprint {
+    // Entity filters take `**` only at the end: each body's spheres are left
+    // out by name.
+    let no_spheres: Vec<String> = characters
+        .iter()
+        .chain(objects)
+        .map(|b| format!("- /{b}/spheres/**"))
+        .collect();
+    // The bodies without the room (nor the room's side of the contacts): the
+    // view frames the characters, not the walls.
     let contacts = Spatial3DView::new("contacts")
         .with_origin("/")
-        .with_contents([
-            "/world/avatar/mesh",
-            "/world/avatar/skeleton",
-            "/world/environment/spheres/**",
-            "/world/environment/subdivision",
-            "/cd/**",
-        ]);
-    let level = layout::level_path(layout::AVATAR_SPHERES, sphere_level);
+        .with_contents(
+            [
+                // The view coordinates (Y up) are logged on `/world` itself.
+                format!("/{}", layout::WORLD),
+                format!("/{}/**", layout::WORLD_CHARACTERS),
+                format!("/{}/**", layout::WORLD_OBJECTS),
+                format!("/{}/**", layout::ENV_SPHERES),
+                format!("/{}", layout::ENV_SUBDIVISION),
+                "/cd/**".to_string(),
+                format!("- /{}/environment/room", layout::COLLIDING),
+                format!("- /{}/environment/room", layout::FALSE_POSITIVE),
+                format!("- /{}/environment/room", layout::FALSE_NEGATIVE),
+            ]
+            .into_iter()
+            .chain(no_spheres.iter().cloned()),
+        );
+    let scene = Spatial3DView::new("scene").with_origin("/").with_contents(
+        [
+            "/world/**".to_string(),
+            "/cd/**".to_string(),
+            format!("- /{}/**", layout::ENV_SPHERES),
+        ]
+        .into_iter()
+        .chain(no_spheres),
+    );
+    let mut sphere_paths: Vec<String> = std::iter::once(format!("/{}", layout::WORLD))
+        .chain(characters.iter().map(|c| {
+            format!(
+                "/{}",
+                layout::level_path(&format!("{c}/spheres"), sphere_level)
+            )
+        }))
+        .collect();
+    sphere_paths.push("/cd/**".into());
     let spheres = Spatial3DView::new(format!("character spheres, level {sphere_level}"))
         .with_origin("/")
-        .with_contents([format!("/{level}"), "/cd/**".to_string()]);
-    let scene = Spatial3DView::new("scene").with_origin("/").with_contents([
-        "/world/**",
-        "/cd/**",
-        "- /world/environment/spheres/**",
-        "- /world/avatar/spheres/**",
-    ]);
+        .with_contents(sphere_paths);
+    let by_kind = |title: &str, counter: &str| {
+        TimeSeriesView::new(title).with_origin(format!("/{}/by_kind/{counter}", layout::STATS))
+    };
     let tests = TimeSeriesView::new("tests and refits per frame").with_contents([
         "/stats/tests/**",
         "/stats/refits",
         "/stats/skinned_vertices",
     ]);
-    let ops = TimeSeriesView::new("operations (paper's model)").with_origin("/stats/operations");
     let pairs = TimeSeriesView::new("colliding pairs (reported, exact)")
         .with_contents(["/stats/pairs", "/stats/reference_pairs"]);
     let accuracy = TimeSeriesView::new("precision and recall").with_origin("/stats/accuracy");
@@ -56,109 +91,27 @@ pub fn run_blueprint(sphere_level: usize) -> Blueprint {
         .with_row_shares([3.0, 2.0])
         .into(),
         Vertical::new([
-            tests.into(),
-            ops.into(),
-            Tabs::new([pairs.into(), accuracy.into()]).into(),
+            Tabs::new([
+                tests.into(),
+                by_kind("sphere-sphere tests per kind", "sphere_sphere").into(),
+                by_kind("triangle-triangle tests per kind", "tri_tri").into(),
+                by_kind("plane-sphere tests per kind", "plane_sphere").into(),
+            ])
+            .into(),
+            Tabs::new([
+                TimeSeriesView::new("operations (paper's model)")
+                    .with_origin("/stats/operations")
+                    .into(),
+                by_kind("operations per kind", "operations").into(),
+            ])
+            .into(),
+            Tabs::new([
+                pairs.into(),
+                by_kind("colliding pairs per kind", "pairs").into(),
+                accuracy.into(),
+            ])
+            .into(),
             time.into(),
-            Tabs::new([report.into(), events.into(), info.into()]).into(),
-        ])
-        .into(),
-    ];
-    Blueprint::new(Horizontal::new(views).with_column_shares([3.0, 2.0]))
-        .with_auto_views(false)
-        .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
-        .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
-        .with_time_panel(
-            TimePanel::new()
-                .with_state(PanelState::Collapsed)
-                .with_timeline(layout::FRAME)
-                .with_play_state(PlayState::Paused),
-        )
-}
-
-/// A world. Left: the bodies and their colliding triangles coloured by kind
-/// (the room's side as outlines), the whole world with its room, and each
-/// character's refit spheres of level `sphere_level` (the
-/// other levels, and the objects' spheres, can be switched on in the
-/// blueprint panel). Right: per-kind counters as time series (one view per
-/// counter, one line per kind), precision and recall per kind, the totals;
-/// this frame's report, the event log and the scenario. Views list bodies
-/// by wildcard, so the layout is the same for 2 characters or 16.
-pub fn world_blueprint(
-    characters: &[String],
-    objects: &[String],
-    sphere_level: usize,
-) -> Blueprint {
-    // Entity filters take `**` only at the end: each body's spheres are left
-    // out by name.
-    let no_spheres: Vec<String> = characters
-        .iter()
-        .chain(objects)
-        .map(|b| format!("- /{b}/spheres/**"))
-        .collect();
-    // The bodies without the room (nor the room's side of the contacts): the
-    // view frames the characters, not the walls.
-    let bodies = Spatial3DView::new("bodies and contacts")
-        .with_origin("/")
-        .with_contents(
-            [
-                // The view coordinates (Y up) are logged on `/world` itself.
-                format!("/{}", layout::WORLD),
-                format!("/{}/**", layout::WORLD_CHARACTERS),
-                format!("/{}/**", layout::WORLD_OBJECTS),
-                "/cd/**".to_string(),
-                format!("- /{}/environment/room", layout::COLLIDING),
-                format!("- /{}/environment/room", layout::FALSE_POSITIVE),
-                format!("- /{}/environment/room", layout::FALSE_NEGATIVE),
-            ]
-            .into_iter()
-            .chain(no_spheres.iter().cloned()),
-        );
-    let world = Spatial3DView::new("world").with_origin("/").with_contents(
-        ["/world/**".to_string(), "/cd/**".to_string()]
-            .into_iter()
-            .chain(no_spheres),
-    );
-    let mut sphere_paths: Vec<String> = std::iter::once(format!("/{}", layout::WORLD))
-        .chain(characters.iter().map(|c| {
-            format!(
-                "/{}",
-                layout::level_path(&format!("{c}/spheres"), sphere_level)
-            )
-        }))
-        .collect();
-    sphere_paths.push("/cd/**".into());
-    let spheres = Spatial3DView::new(format!("character spheres, level {sphere_level}"))
-        .with_origin("/")
-        .with_contents(sphere_paths);
-    let series = |title: &str, counter: &str| {
-        TimeSeriesView::new(title).with_origin(format!("/{}/{counter}", layout::STATS))
-    };
-    let report =
-        TextDocumentView::new("this frame").with_origin(format!("/{}", layout::FRAME_REPORT));
-    let info = TextDocumentView::new("scenario").with_origin(format!("/{}", layout::INFO));
-    let events = TextLogView::new("events").with_origin(format!("/{}", layout::EVENTS));
-    let views: Vec<ContainerLike> = vec![
-        Vertical::new([
-            bodies.into(),
-            Horizontal::new([world.into(), spheres.into()]).into(),
-        ])
-        .with_row_shares([3.0, 2.0])
-        .into(),
-        Vertical::new([
-            Tabs::new([
-                series("colliding pairs per kind", "pairs").into(),
-                series("operations per kind", "operations").into(),
-            ])
-            .into(),
-            Tabs::new([
-                series("sphere-sphere tests per kind", "sphere_sphere").into(),
-                series("triangle-triangle tests per kind", "tri_tri").into(),
-                series("plane-sphere tests per kind", "plane_sphere").into(),
-            ])
-            .into(),
-            series("precision and recall per kind", "accuracy").into(),
-            series("totals", "total").into(),
             Tabs::new([report.into(), events.into(), info.into()]).into(),
         ])
         .into(),
@@ -221,7 +174,6 @@ pub fn ccd_blueprint(bodies: &[String]) -> Blueprint {
                 "/cd/**".to_string(),
                 format!("- /{}/**", layout::CCD),
                 format!("- /{}/**", layout::ENV_SPHERES),
-                format!("- /{}/**", layout::AVATAR_SPHERES),
             ]
             .into_iter()
             .chain(bodies.iter().map(|b| format!("- /{b}/spheres/**"))),

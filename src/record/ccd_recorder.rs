@@ -13,15 +13,16 @@
 use nalgebra::Isometry3;
 use rerun::RecordingStream;
 
+use super::draw::body_entity;
 use super::layout;
-use super::world_recorder::body_entity;
 use crate::scenario::Resolved;
 use crate::truth::substep_score::StepPair;
 use cornertree::geometry::Point;
-use cornertree::pipeline::continuous::CharacterSweep;
+use cornertree::pipeline::SweepState;
 use cornertree::sphere_tree::character::CharacterTree;
 use cornertree::sphere_tree::swept::SphereSweep;
-use cornertree::world::ContinuousOutcome;
+use cornertree::world::CharacterHandle;
+use cornertree::world::SweepContacts;
 
 /// Pairs shown at the time of impact: those whose own time of impact is
 /// within this fraction of the step after it.
@@ -30,14 +31,14 @@ pub const TOI_WINDOW: f64 = 0.02;
 /// One step as the recorder reads it.
 pub struct StepView<'a> {
     pub scene: &'a Resolved,
-    pub outcome: &'a ContinuousOutcome,
+    pub outcome: &'a SweepContacts,
     /// Each character's skinned vertices at both ends.
     pub start: Vec<&'a [Point]>,
     pub end: Vec<&'a [Point]>,
     pub object_start: &'a [Isometry3<f32>],
     pub object_end: &'a [Isometry3<f32>],
     /// Each character's sweep (refit spheres at both ends).
-    pub sweeps: Vec<&'a CharacterSweep>,
+    pub sweeps: Vec<&'a SweepState>,
     /// The pairs the discrete frames missed at both ends (sorted).
     pub missed_by_discrete: &'a [StepPair],
     /// Recall against the sub-stepped reference, if computed.
@@ -150,11 +151,11 @@ impl CcdRecorder {
                 StepPair::Characters(q) => (q.a, q.triangle_a),
             };
             if let StepPair::Objects(q) = p.pair {
-                involved[q.object as usize] = true;
+                involved[q.object.index()] = true;
             }
-            let leaf = self.leaf_of[c as usize][tri as usize];
+            let leaf = self.leaf_of[c.index()][tri as usize];
             if leaf != u32::MAX {
-                let (s0, s1) = v.sweeps[c as usize].refit_states();
+                let (s0, s1) = v.sweeps[c.index()].refit_states();
                 let sw = SphereSweep {
                     start: s0.spheres[leaf as usize],
                     end: s1.spheres[leaf as usize],
@@ -167,12 +168,12 @@ impl CcdRecorder {
                 continue;
             }
             shown += 1;
-            let char_tri = |c: u32, t: u32| {
-                let idx = v.scene.characters[c as usize].character.mesh.indices()[t as usize];
+            let char_tri = |c: CharacterHandle, t: u32| {
+                let idx = v.scene.characters[c.index()].character.mesh.indices()[t as usize];
                 idx.map(|i| {
                     lerp(
-                        &v.start[c as usize][i as usize],
-                        &v.end[c as usize][i as usize],
+                        &v.start[c.index()][i as usize],
+                        &v.end[c.index()][i as usize],
                         toi as f32,
                     )
                 })
@@ -188,10 +189,10 @@ impl CcdRecorder {
                     })
                 }
                 StepPair::Objects(q) => {
-                    let m = &v.scene.objects[q.object as usize].mesh;
+                    let m = &v.scene.objects[q.object.index()].mesh;
                     let (from, to) = (
-                        &v.object_start[q.object as usize],
-                        &v.object_end[q.object as usize],
+                        &v.object_start[q.object.index()],
+                        &v.object_end[q.object.index()],
                     );
                     let idx = m.indices()[q.object_triangle as usize];
                     idx.map(|i| {

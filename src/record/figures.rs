@@ -13,8 +13,8 @@ use std::path::{Path, PathBuf};
 use rerun::RecordingStream;
 
 use super::blueprint::figure_blueprint;
+use super::draw::{mesh3d, soup};
 use super::layout::{self, Rgba};
-use super::run_recorder::{mesh3d, soup};
 use crate::humanoid::{HumanoidParams, generate_humanoid};
 use cornertree::big_triangle::hierarchy::MAX_LEVELS;
 use cornertree::big_triangle::{Division, DivisionKind, SubTriangle};

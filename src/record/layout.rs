@@ -12,17 +12,15 @@ pub const WORLD: &str = "world";
 pub const ENV_MESH: &str = "world/environment/mesh";
 pub const ENV_SPHERES: &str = "world/environment/spheres";
 pub const ENV_SUBDIVISION: &str = "world/environment/subdivision";
-pub const AVATAR_MESH: &str = "world/avatar/mesh";
-pub const AVATAR_SKELETON: &str = "world/avatar/skeleton";
-pub const AVATAR_SPHERES: &str = "world/avatar/spheres";
-pub const COLLIDING_AVATAR: &str = "cd/colliding/avatar";
-pub const COLLIDING_ENVIRONMENT: &str = "cd/colliding/environment";
-pub const COLLIDING_SPHERES: &str = "cd/colliding/plane_sphere";
-/// Worlds: one entity per character and per object under these.
+/// One entity per character and per object under these:
+/// `<body>/{mesh,skeleton,spheres/level_kk}`.
 pub const WORLD_CHARACTERS: &str = "world/characters";
 pub const WORLD_OBJECTS: &str = "world/objects";
-/// Worlds: colliding triangles, `cd/colliding/<kind>/{bodies,room}`.
+/// Colliding triangles, `cd/colliding/<kind>/{bodies,room}`.
 pub const COLLIDING: &str = "cd/colliding";
+/// Plane-sphere methods: the character leaf spheres that met a big
+/// triangle's plane in a reported pair.
+pub const COLLIDING_SPHERES: &str = "cd/colliding/plane_sphere";
 pub const FALSE_POSITIVE: &str = "cd/false_positive";
 pub const FALSE_NEGATIVE: &str = "cd/false_negative";
 /// Precision and recall against the ground truth, per frame.
@@ -61,8 +59,9 @@ pub fn level_path(root: &str, level: usize) -> String {
     format!("{root}/level_{level:02}")
 }
 
-/// The counters logged as scalars, with their entity paths under `stats/`.
-pub const COUNTER_PATHS: [&str; 7] = [
+/// The counters of a frame (every kind together) logged as scalars, with
+/// their entity paths under `stats/`.
+pub const COUNTER_PATHS: [&str; 9] = [
     "stats/tests/sphere_sphere",
     "stats/tests/tri_tri",
     "stats/tests/plane_sphere",
@@ -70,8 +69,10 @@ pub const COUNTER_PATHS: [&str; 7] = [
     "stats/refits",
     "stats/skinned_vertices",
     "stats/pairs",
+    "stats/body_pairs",
+    "stats/wall_ms",
 ];
-/// Worlds: the counters logged per pair kind, as `stats/<counter>/<kind>`
+/// The counters logged per pair kind, as `stats/by_kind/<counter>/<kind>`
 /// (one time series view per counter shows the three kinds).
 pub const KIND_COUNTERS: [&str; 5] = [
     "sphere_sphere",
@@ -81,24 +82,15 @@ pub const KIND_COUNTERS: [&str; 5] = [
     "pairs",
 ];
 
-/// `stats/<counter>/<kind>`.
+/// `stats/by_kind/<counter>/<kind>`.
 pub fn kind_counter_path(kind: cornertree::world::PairKind, counter: &str) -> String {
-    format!("{STATS}/{counter}/{}", kind.name())
+    format!("{STATS}/by_kind/{counter}/{}", kind.name())
 }
 
 /// `stats/accuracy/<kind>/<precision|recall>`.
 pub fn kind_accuracy_path(kind: cornertree::world::PairKind, what: &str) -> String {
     format!("{STATS}/accuracy/{}/{what}", kind.name())
 }
-
-/// Worlds: totals of a frame.
-pub const WORLD_TOTAL_PATHS: [&str; 5] = [
-    "stats/total/operations",
-    "stats/total/refits",
-    "stats/total/skinned_vertices",
-    "stats/total/body_pairs",
-    "stats/total/wall_ms",
-];
 
 /// Time per stage, milliseconds.
 pub const TIME_PATHS: [&str; 6] = [
@@ -118,8 +110,8 @@ pub const AVATAR_COLOR: Rgba = [110, 160, 220, 255];
 pub const SKELETON_COLOR: Rgba = [240, 240, 90, 255];
 pub const HIT_AVATAR_COLOR: Rgba = [230, 40, 40, 255];
 pub const HIT_ENV_COLOR: Rgba = [255, 150, 20, 255];
-/// Worlds: moving objects, and the colliding triangles of the two pair kinds
-/// beside the room's ([`HIT_ENV_COLOR`]).
+/// Moving objects, and the colliding triangles of the two pair kinds beside
+/// the room's ([`HIT_ENV_COLOR`]).
 pub const OBJECT_COLOR: Rgba = [200, 170, 120, 200];
 pub const HIT_OBJECT_COLOR: Rgba = [120, 220, 40, 255];
 pub const HIT_CHARACTER_COLOR: Rgba = [150, 90, 255, 255];

@@ -4,10 +4,10 @@
 //! |---|---|
 //! | [`layout`] | entity paths, colours, the per-level split of a tree |
 //! | [`blueprint`] | the layout a recording opens on |
-//! | [`run_recorder`] | the scene once, then every frame of one method |
-//! | [`world_recorder`] | the scene once, then every frame of one method playing a world |
+//! | [`recorder`] | [`Recorder`]: the scene once, then every frame of one method, one character or many |
 //! | [`ccd_recorder`] | continuous detection's part of a run's recording: swept spheres, bodies at a time of impact, touching pairs |
 //! | [`figures`] | the paper's Figures 1–3 as recordings |
+//! | [`draw`] | points, meshes, triangle soups, spheres per level, body names and colours |
 //! | [`target`] | where recordings go (files, a viewer) |
 //!
 //! One entity per batch (a level's spheres, the colliding triangles), never
@@ -15,11 +15,10 @@
 
 pub mod blueprint;
 pub mod ccd_recorder;
+pub mod draw;
 pub mod figures;
 pub mod layout;
-pub mod run_recorder;
+pub mod recorder;
 pub mod target;
-pub mod world_recorder;
 
-pub use run_recorder::{RecordOptions, RunRecorder, SceneInfo};
-pub use world_recorder::WorldRecorder;
+pub use recorder::{RecordOptions, Recorder, SceneInfo};

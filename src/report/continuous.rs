@@ -10,7 +10,7 @@ use serde::Serialize;
 
 use crate::truth::substep_score::{OnlyClass, StepPair, StepScore};
 use cornertree::pipeline::continuous_narrow::CcdCounters;
-use cornertree::world::{ContinuousOutcome, MethodOutcome};
+use cornertree::world::{StepContacts, SweepContacts};
 
 /// A pair with its time of impact.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -46,7 +46,7 @@ pub struct ContinuousFrameRecord {
 }
 
 /// Every pair of a discrete outcome, sorted.
-pub fn discrete_step_pairs(o: &MethodOutcome, out: &mut Vec<StepPair>) {
+pub fn discrete_step_pairs(o: &StepContacts, out: &mut Vec<StepPair>) {
     out.clear();
     out.extend(o.room_pairs.iter().map(|&p| StepPair::Environment(p)));
     out.extend(o.object_pairs.iter().map(|&p| StepPair::Objects(p)));
@@ -55,7 +55,7 @@ pub fn discrete_step_pairs(o: &MethodOutcome, out: &mut Vec<StepPair>) {
 }
 
 /// Every pair of a continuous outcome, sorted.
-pub fn continuous_step_pairs(o: &ContinuousOutcome) -> Vec<TimedStepPair> {
+pub fn continuous_step_pairs(o: &SweepContacts) -> Vec<TimedStepPair> {
     let mut v: Vec<TimedStepPair> = o
         .room_pairs
         .iter()
@@ -83,12 +83,12 @@ impl ContinuousFrameRecord {
     /// The record of `o` (a step), given the method's discrete pairs at the
     /// step's two frames (sorted).
     pub fn new(
-        o: &ContinuousOutcome,
+        k: usize,
+        o: &SweepContacts,
         discrete_start: &[StepPair],
         discrete_end: &[StepPair],
         reference: Option<StepScore>,
     ) -> Self {
-        let k = o.frame.unwrap_or(0);
         let pairs = continuous_step_pairs(o);
         let missed_by_discrete = pairs
             .iter()
@@ -106,7 +106,7 @@ impl ContinuousFrameRecord {
             refits: o.total.refits,
             skinned_vertices: o.total.skinned_vertices,
             wall_ms: o.wall_ms,
-            ccd: o.ccd,
+            ccd: o.extra,
             earliest_toi: o.earliest(),
             pairs,
             missed_by_discrete,

@@ -10,9 +10,9 @@ use crate::truth::{
     Accuracy, AccuracyTotals, Classified, Disagreement, FalseNegative, FalsePositive,
     FrameAccuracy, MethodTruth,
 };
+use cornertree::pipeline::FrameCounters;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::FrameCounters;
-use cornertree::world::{ByKind, MethodOutcome, PairKind};
+use cornertree::world::{ByKind, PairKind, StepContacts};
 
 /// How many differences of each kind.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
@@ -176,7 +176,7 @@ pub struct WorldFrameRecord {
 }
 
 impl WorldFrameRecord {
-    pub fn new(o: &MethodOutcome) -> Self {
+    pub fn new(o: &StepContacts) -> Self {
         Self {
             by_kind: ByKind {
                 environment: KindRecord::of(&o.by_kind.environment),

@@ -6,6 +6,8 @@
 //! |---|---|
 //! | `mod.rs` | [`Scenario`], its sections, [`load_scenario`], [`ScenarioError`] |
 //! | [`objects`] | `[[objects]]`: shapes and motions of moving bodies |
+//! | [`motion`] | [`motion::Motion`]: an object's pose over time (waypoints, hinge, a room door's swing); its path over a step for continuous detection |
+//! | [`shapes`] | meshes of the generated objects (box, panel, ball, door) |
 //! | [`ranges`] | the valid range of every number, checked here at load |
 //! | [`budget`] | [`RunLimits`]: bytes a run may allocate; sizes charged before they are allocated |
 //! | [`resolve`](mod@resolve) | [`resolve()`]: character, room, clip, frame times, and per-frame placement ([`Resolved`]); the "gap" placement of §6's extreme conditions |
@@ -15,9 +17,11 @@
 //! offending line instead of a field). Nothing here panics on bad input.
 
 pub mod budget;
+pub mod motion;
 pub mod objects;
 pub mod ranges;
 pub mod resolve;
+pub mod shapes;
 
 use std::fmt;
 use std::ops::Range;

@@ -11,9 +11,9 @@ use nalgebra::{Unit, Vector3};
 use serde::Deserialize;
 use toml::Spanned;
 
+use super::motion::Motion;
 use super::ranges::{self, MAX_DEGREES, MAX_METRES, MAX_SECONDS, show};
 use super::{ScenarioError, find_asset, locate, missing};
-use crate::world::motion::Motion;
 use cornertree::geometry::Real;
 
 /// What an object is made of.

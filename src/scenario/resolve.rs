@@ -14,6 +14,7 @@
 //! same for every frame.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
 
@@ -27,17 +28,16 @@ use cornertree::character::{Character, Clip, JointId, PoseBuffers, SkinningModel
 use cornertree::geometry::Real;
 use cornertree::io::{LoadLimits, load_character_with};
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::{PipelineOptions, pose_frame};
-use cornertree::sphere_tree::BuildParams;
+use cornertree::world::WorldSettings;
 
 use super::budget::{self, RunBudget, RunLimits};
+use super::motion::Motion;
 use super::objects::ObjectShape;
 use super::ranges::{self, MAX_FRAMES};
+use super::shapes;
 use super::{
     CharacterEntry, Doors, EnvironmentSection, Gap, Placement, Recording, Scenario, ScenarioError,
 };
-use crate::world::motion::Motion;
-use crate::world::shapes;
 use cornertree::mesh::TriMesh;
 
 /// A scenario made concrete: the world's bodies, the room and the run's
@@ -71,7 +71,8 @@ pub struct Resolved {
 #[derive(Clone, Debug)]
 pub struct Actor {
     pub name: String,
-    pub character: Character,
+    /// Shared with the collision worlds playing it.
+    pub character: Arc<Character>,
     /// Index of the clip in `character.clips`; `None` for a character without clips (rest pose).
     pub clip_index: Option<usize>,
     pub skinning: SkinningModel,
@@ -150,13 +151,10 @@ impl Actor {
     /// Poses and places the character for `frame` into `buffers` (joint
     /// matrices and base; no vertex skinned); returns the milliseconds it took.
     pub fn pose_frame(&self, buffers: &mut PoseBuffers, frame: usize) -> f64 {
-        pose_frame(
-            buffers,
-            &self.character,
-            self.clip(),
-            self.time_at(frame),
-            &self.placement_at(frame).to_homogeneous(),
-        )
+        let t0 = std::time::Instant::now();
+        buffers.pose(&self.character, self.clip(), self.time_at(frame));
+        buffers.place(&self.placement_at(frame).to_homogeneous());
+        t0.elapsed().as_secs_f64() * 1e3
     }
 
     /// [`Resolved::pose_frame`] and every vertex skinned; returns the
@@ -174,18 +172,23 @@ impl Resolved {
         self.frames
     }
 
+    /// Whether the scenario is a world: several characters, or moving
+    /// objects (reports then count per pair kind).
+    pub fn is_world(&self) -> bool {
+        self.characters.len() > 1 || !self.objects.is_empty()
+    }
+
     /// The first character (a world has at least one).
     pub fn first(&self) -> &Actor {
         &self.characters[0]
     }
 
-    /// The pipeline settings this scenario asks for, for `actor`.
-    pub fn pipeline_options(&self, actor: &Actor) -> PipelineOptions {
-        PipelineOptions {
-            skinning: actor.skinning,
-            dedup: self.dedup,
+    /// The settings of every method's world: the scenario's big-triangle
+    /// threshold, the paper's tree build, refit timed apart.
+    pub fn world_settings(&self) -> WorldSettings {
+        WorldSettings {
             threshold: self.threshold,
-            build: BuildParams::default(),
+            ..WorldSettings::default()
         }
     }
 
@@ -541,7 +544,7 @@ pub fn resolve_with(
         };
         characters.push(Actor {
             name: entry.name.clone(),
-            character,
+            character: Arc::new(character),
             clip_index,
             skinning: entry.character.skinning,
             clip_offset: entry.clip_offset,

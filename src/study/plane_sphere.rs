@@ -21,10 +21,9 @@ use serde::Serialize;
 use crate::scenario::{
     Placement, Scenario, ScenarioError, SubdivideObject, load_scenario, resolve, scenario_name,
 };
-use cornertree::character::PoseBuffers;
+use crate::session::{Session, SessionError};
 use cornertree::geometry::Real;
 use cornertree::pipeline::Method;
-use cornertree::pipeline::driver::Pipeline;
 
 /// Which knob a condition turns, away from the base scenario.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -151,6 +150,8 @@ pub enum StudyError {
     NotGap { file: PathBuf },
     #[error("{file}: {message}")]
     Split { file: PathBuf, message: String },
+    #[error(transparent)]
+    Session(#[from] SessionError),
 }
 
 /// Plays every condition of [`conditions`] on `base` with each of `methods`,
@@ -196,56 +197,67 @@ pub fn run_study(
             Placement::Gap(g) => g.along,
             _ => 0.0,
         };
-        let character = &resolved.first().character;
-        let env = &resolved.environment.mesh;
-        let options = resolved.pipeline_options(resolved.first());
-        let mut buffers = PoseBuffers::new(character);
-        for &method in methods {
-            let mut p = Pipeline::new(character, env, method, options);
-            let mut row = StudyRow {
-                scenario: name.clone(),
-                factor: condition.factor,
-                setting: condition.setting.clone(),
-                surface_triangles,
-                along_metres,
-                threshold: resolved.threshold,
-                dedup: resolved.dedup,
-                method,
-                frames: resolved.frames(),
-                sphere_sphere_max: 0,
-                tri_tri_max: 0,
-                plane_sphere_max: 0,
-                operations_max: 0,
-                operations_mean: 0.0,
-                refits_max: 0,
-                largest_division_leaf_met: 0.0,
-                largest_leaf_object: String::new(),
-            };
-            let mut largest_leaf_triangle = None;
-            for k in 0..resolved.frames() {
-                resolved.first().pose_frame(&mut buffers, k);
-                let c = p.detect(&buffers, character, env);
+        let frames = resolved.frames();
+        let threshold = resolved.threshold;
+        let dedup = resolved.dedup;
+        resolved.methods = methods.to_vec();
+        // The room, for naming its triangles after the run.
+        let environment = resolved.environment.clone();
+        let mut session = Session::new(resolved, 1)?;
+        let (room, character) = (session.room(), session.character(0));
+        let mut rows_now: Vec<(StudyRow, Option<u32>)> = methods
+            .iter()
+            .map(|&method| {
+                let row = StudyRow {
+                    scenario: name.clone(),
+                    factor: condition.factor,
+                    setting: condition.setting.clone(),
+                    surface_triangles,
+                    along_metres,
+                    threshold,
+                    dedup,
+                    method,
+                    frames,
+                    sphere_sphere_max: 0,
+                    tri_tri_max: 0,
+                    plane_sphere_max: 0,
+                    operations_max: 0,
+                    operations_mean: 0.0,
+                    refits_max: 0,
+                    largest_division_leaf_met: 0.0,
+                    largest_leaf_object: String::new(),
+                };
+                (row, None)
+            })
+            .collect();
+        while session.step().is_some() {
+            for (m, (row, largest_leaf_triangle)) in rows_now.iter_mut().enumerate() {
+                let c = session.contacts(m).total;
                 row.sphere_sphere_max = row.sphere_sphere_max.max(c.sphere_sphere);
                 row.tri_tri_max = row.tri_tri_max.max(c.tri_tri);
                 row.plane_sphere_max = row.plane_sphere_max.max(c.plane_sphere);
                 row.operations_max = row.operations_max.max(c.operations());
                 row.operations_mean += c.operations() as f64;
                 row.refits_max = row.refits_max.max(c.refits);
-                let nodes = p.environment.tree.nodes();
-                for lp in p.leaf_pairs() {
-                    if p.environment.is_division_leaf(lp.leaf_b) {
+                let w = session.world(m);
+                let (tree, _) = w.room(room).expect("the session's room");
+                let view = w.character(character).expect("the session's character");
+                let nodes = tree.tree.nodes();
+                for lp in view.room_leaf_pairs(room) {
+                    if tree.is_division_leaf(lp.leaf_b) {
                         let r = nodes[lp.leaf_b.index()].sphere.radius;
                         if r > row.largest_division_leaf_met {
                             row.largest_division_leaf_met = r;
-                            largest_leaf_triangle = Some(lp.primitive_b);
+                            *largest_leaf_triangle = Some(lp.primitive_b);
                         }
                     }
                 }
             }
-            row.operations_mean /= resolved.frames().max(1) as f64;
+        }
+        for (mut row, largest_leaf_triangle) in rows_now {
+            row.operations_mean /= frames.max(1) as f64;
             if let Some(t) = largest_leaf_triangle {
-                row.largest_leaf_object = resolved
-                    .environment
+                row.largest_leaf_object = environment
                     .object_of(cornertree::mesh::TriangleId(t))
                     .map_or_else(String::new, |o| o.name.clone());
             }

@@ -6,7 +6,8 @@
 //! | [`parry_reference`] | [`ParryReference`]: parry3d's triangle meshes and BVH leaf pairs, decided by parry's triangle-triangle test (GJK) or by the exact oracle; a brute-force exact helper |
 //! | [`parry_world`] | [`ParryWorld`]: the parry3d baseline for a whole world (a `TriMesh` per body, a broad phase over their boxes, BVH leaf pairs, parry's `f32` test) |
 //! | [`disagreement`] | the pairs two answers differ on, each classified as touching, near-degenerate or a true error |
-//! | [`frame_truth`] | a frame's truth (exact pairs on parry's broad phase), parry's answer beside it, and a method's score: accuracy, false positives with distances, false negatives with causes |
+//! | [`ground_truth`] | [`Truth`]: a frame's truth for one character or many, per pair kind: the exact pairs on parry's broad phase, parry's answer beside it; a method's score per kind, and in detail (false positives with distances, false negatives with causes) per body pair |
+//! | [`body_pair`] | [`BodyPairTruth`]: the truth of one body pair, the piece the above is made of |
 //! | [`substep`] | the truth of continuous detection: the exact oracle on dense sub-steps of each frame step |
 //! | [`substep_score`] | a continuous step against it: recall, misses, pairs only continuous detection found, classified by refining around their time of impact |
 //! | [`accuracy`] | precision and recall per frame and over a run, at the levels of pairs, character triangles and frames |
@@ -23,22 +24,22 @@
 //! against; [`ParryReference::pairs`] is parry's, compared beside it.
 
 pub mod accuracy;
+pub mod body_pair;
 pub mod disagreement;
-pub mod frame_truth;
+pub mod ground_truth;
 pub mod parry_reference;
 pub mod parry_world;
 pub mod substep;
 pub mod substep_score;
-pub mod world_truth;
 
 pub use accuracy::{Accuracy, AccuracyTotals, FrameAccuracy};
-pub use disagreement::{Classified, Disagreement, Kind, Tolerances, triangle_distance};
-pub use frame_truth::{
-    FalseNegative, FalsePositive, FrameTruth, MethodContext, MethodTruth, MissCause,
+pub use body_pair::{
+    BodyPairTruth, FalseNegative, FalsePositive, MethodContext, MethodTruth, MissCause,
 };
+pub use disagreement::{Classified, Disagreement, Kind, Tolerances, triangle_distance};
+pub use ground_truth::{Truth, WorldPairs};
 pub use parry_reference::{ParryReference, brute_force_pairs};
 pub use parry_world::ParryWorld;
-pub use world_truth::{WorldPairs, WorldTruth};
 
 /// Why a ground-truth query cannot be answered.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]

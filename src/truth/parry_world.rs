@@ -24,13 +24,15 @@ use parry3d::partitioning::BvhNode;
 use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 
 use super::TruthError;
+use super::ground_truth::WorldPairs;
 use super::parry_reference::parry_triangles_intersect;
-use super::world_truth::WorldPairs;
 use crate::scenario::Resolved;
 use cornertree::character::PoseBuffers;
 use cornertree::geometry::Point;
 use cornertree::mesh::TriMesh;
-use cornertree::world::{CharacterPair, ObjectPair, RoomPair};
+use cornertree::world::{
+    CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
+};
 
 fn to_parry(p: &Point) -> PVector {
     PVector::new(p.x, p.y, p.z)
@@ -155,8 +157,9 @@ impl ParryWorld {
                 *candidates += 1;
                 if parry_triangles_intersect(&c.triangle(t), &room.triangle(rt)) {
                     pairs.environment.push(RoomPair {
-                        character: i as u32,
+                        character: CharacterHandle(i as u32),
                         triangle: t,
+                        room: RoomHandle(0),
                         room_triangle: rt,
                     });
                 }
@@ -170,9 +173,9 @@ impl ParryWorld {
                     *candidates += 1;
                     if parry_triangles_intersect(&c.triangle(t), &obj.triangle(ot)) {
                         pairs.objects.push(ObjectPair {
-                            character: i as u32,
+                            character: CharacterHandle(i as u32),
                             triangle: t,
-                            object: o as u32,
+                            object: ObjectHandle(o as u32),
                             object_triangle: ot,
                         });
                     }
@@ -188,9 +191,9 @@ impl ParryWorld {
                     *candidates += 1;
                     if parry_triangles_intersect(&c.triangle(ta), &d.triangle(tb)) {
                         pairs.characters.push(CharacterPair {
-                            a: i as u32,
+                            a: CharacterHandle(i as u32),
                             triangle_a: ta,
-                            b: j as u32,
+                            b: CharacterHandle(j as u32),
                             triangle_b: tb,
                         });
                     }

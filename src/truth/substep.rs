@@ -25,7 +25,9 @@ use crate::scenario::Resolved;
 use cornertree::geometry::Point;
 use cornertree::geometry::exact::corners_intersect_exact;
 use cornertree::mesh::TriMesh;
-use cornertree::world::{CharacterPair, ObjectPair, RoomPair};
+use cornertree::world::{
+    CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
+};
 
 /// Sub-steps per frame step by default.
 pub const DEFAULT_SUBSTEPS: u32 = 256;
@@ -219,8 +221,9 @@ impl SubstepTruth {
                 if let Some(i) = first_substep(&a, &b, n) {
                     self.room_pairs.push(Found {
                         pair: RoomPair {
-                            character: c as u32,
+                            character: CharacterHandle(c as u32),
                             triangle: t,
+                            room: RoomHandle(0),
                             room_triangle: rt,
                         },
                         first_substep: i,
@@ -235,9 +238,9 @@ impl SubstepTruth {
                     if let Some(i) = first_substep(&a, &b, n) {
                         self.object_pairs.push(Found {
                             pair: ObjectPair {
-                                character: c as u32,
+                                character: CharacterHandle(c as u32),
                                 triangle: t,
-                                object: o as u32,
+                                object: ObjectHandle(o as u32),
                                 object_triangle: ot,
                             },
                             first_substep: i,
@@ -253,9 +256,9 @@ impl SubstepTruth {
                     if let Some(i) = first_substep(&a, &b, n) {
                         self.character_pairs.push(Found {
                             pair: CharacterPair {
-                                a: c as u32,
+                                a: CharacterHandle(c as u32),
                                 triangle_a: ta,
-                                b: d as u32,
+                                b: CharacterHandle(d as u32),
                                 triangle_b: tb,
                             },
                             first_substep: i,

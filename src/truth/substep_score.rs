@@ -17,7 +17,7 @@
 use serde::Serialize;
 
 use cornertree::geometry::ccd_root_finder::CcdParams;
-use cornertree::world::{CharacterPair, ContinuousOutcome, ObjectPair, RoomPair, Timed};
+use cornertree::world::{CharacterPair, ObjectPair, RoomPair, SweepContacts, Timed};
 
 use super::substep::{Found, MovingCorners, StepBodies, SubstepTruth, corners_at, touch_at};
 
@@ -35,16 +35,16 @@ impl StepPair {
     pub fn corners(&self, bodies: &StepBodies<'_>) -> (MovingCorners, MovingCorners) {
         match *self {
             StepPair::Environment(p) => (
-                bodies.character_triangle(p.character as usize, p.triangle),
+                bodies.character_triangle(p.character.index(), p.triangle),
                 bodies.room_triangle(p.room_triangle),
             ),
             StepPair::Objects(p) => (
-                bodies.character_triangle(p.character as usize, p.triangle),
-                bodies.object_triangle(p.object as usize, p.object_triangle),
+                bodies.character_triangle(p.character.index(), p.triangle),
+                bodies.object_triangle(p.object.index(), p.object_triangle),
             ),
             StepPair::Characters(p) => (
-                bodies.character_triangle(p.a as usize, p.triangle_a),
-                bodies.character_triangle(p.b as usize, p.triangle_b),
+                bodies.character_triangle(p.a.index(), p.triangle_a),
+                bodies.character_triangle(p.b.index(), p.triangle_b),
             ),
         }
     }
@@ -99,7 +99,7 @@ const REFINE_SAMPLES: u32 = 1024;
 /// `bodies`); `params` gives the tolerance of the false-positive bound.
 pub fn score_step(
     truth: &SubstepTruth,
-    outcome: &ContinuousOutcome,
+    outcome: &SweepContacts,
     bodies: &StepBodies<'_>,
     params: &CcdParams,
 ) -> StepScore {

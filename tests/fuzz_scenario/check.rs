@@ -17,8 +17,8 @@ use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
 use cornertree_workbench::scenario::{RunLimits, Scenario, resolve_with};
-use cornertree_workbench::truth::{FrameTruth, WorldTruth};
-use cornertree_workbench::world::World;
+use cornertree_workbench::session::Session;
+use cornertree_workbench::truth::Truth;
 
 use super::alloc::{CURRENT, PEAK};
 
@@ -123,28 +123,11 @@ fn run(text: &str, path: &Path) -> Result<Outcome, String> {
         Ok(r) => r,
         Err(e) => return judge_error(path, &e.to_string()),
     };
-    let is_world = resolved.characters.len() > 1 || !resolved.objects.is_empty();
     let frames = resolved.frames;
-    let mut world = World::new(resolved, 1).map_err(|e| format!("thread pool: {e}"))?;
+    let mut world = Session::new(resolved, 1).map_err(|e| format!("session: {e}"))?;
     // The ground truth as `run` sets it up; its errors are failures here
     // (every input it could refuse was refused at load).
-    let mut truth = if is_world {
-        None
-    } else {
-        let first = world.scene.first();
-        Some(
-            FrameTruth::new(
-                &world.scene.environment.mesh,
-                first.character.mesh.indices(),
-            )
-            .map_err(|e| format!("ground truth: {e}"))?,
-        )
-    };
-    let mut world_truth = if is_world {
-        Some(WorldTruth::new(&world.scene).map_err(|e| format!("ground truth: {e}"))?)
-    } else {
-        None
-    };
+    let mut truth = Truth::new(&world.scene).map_err(|e| format!("ground truth: {e}"))?;
     let mut played = vec![0, frames - 1];
     played.dedup();
     for k in played {
@@ -161,28 +144,19 @@ fn run(text: &str, path: &Path) -> Result<Outcome, String> {
             );
         }
         world.skin_all();
-        if let Some(t) = truth.as_mut() {
-            let first = world.scene.first();
-            t.update(
-                &world.buffers[0].positions,
-                first.character.mesh.indices(),
-                &world.scene.environment.mesh,
-            )
+        truth
+            .update(&world.scene, &world.buffers, &world.object_poses)
             .map_err(|e| format!("ground truth of frame {k}: {e}"))?;
-        }
-        if let Some(t) = world_truth.as_mut() {
-            t.update(&world.scene, &world.buffers, &world.object_poses)
-                .map_err(|e| format!("ground truth of frame {k}: {e}"))?;
-        }
         world.detect_all();
     }
     // `ccd = true`: continuous detection of the last step (posing its start).
     if world.scene.ccd && frames > 1 {
-        let mut cw = cornertree_workbench::world::ContinuousWorld::new(
-            &world,
-            cornertree::geometry::ccd_root_finder::CcdParams::default(),
-        );
-        cw.detect_all(&mut world, frames - 1);
+        world.enable_continuous(cornertree::geometry::ccd_root_finder::CcdParams::default());
+        for m in 0..world.worlds().len() {
+            world
+                .sweep(m, frames - 1)
+                .map_err(|e| format!("continuous detection: {e}"))?;
+        }
     }
     Ok(Outcome::Played)
 }

@@ -17,7 +17,7 @@ pub mod skinning;
 pub mod transform;
 
 pub use clip::{Channel, ChannelValues, Clip, Interpolation};
-pub use model::{Character, PoseBuffers, UnknownClip};
+pub use model::{Character, PoseBuffers, SkinPose, UnknownClip};
 pub use on_demand::OnDemandSkin;
 pub use skeleton::{Joint, JointId, Skeleton, SkeletonError};
 pub use skinning::{Influences, PaperBinding, SkinningModel};

@@ -134,18 +134,16 @@ impl PoseBuffers {
     /// vertex goes further than the furthest matrix takes a bind vertex.
     /// Not finite when a matrix is not.
     pub fn reach(&self, bind_reach: f32) -> f32 {
-        self.skin
-            .iter()
-            .chain([&self.base])
-            .map(|m| {
-                let linear = m.fixed_view::<3, 3>(0, 0).norm();
-                let t = m.fixed_view::<3, 1>(0, 3).norm();
-                linear * bind_reach + t
-            })
-            .fold(
-                0.0,
-                |a: f32, b| if b.is_nan() { f32::INFINITY } else { a.max(b) },
-            )
+        self.skin_pose().reach(bind_reach)
+    }
+
+    /// The skin matrices and placed base this pose skins with.
+    #[inline]
+    pub fn skin_pose(&self) -> SkinPose<'_> {
+        SkinPose {
+            skin: &self.skin,
+            base: &self.base,
+        }
     }
 
     /// Skins every vertex with `model` from the current skin matrices.
@@ -162,11 +160,63 @@ impl PoseBuffers {
     /// [`PoseBuffers::skin_all`] into `out` (one point per vertex) instead
     /// of `self.positions`.
     pub fn skin_all_into(&self, character: &Character, model: SkinningModel, out: &mut [Point]) {
-        skin_every_vertex(character, model, &self.skin, &self.base, out);
+        self.skin_pose().skin_all_into(character, model, out);
     }
 
     /// Starts loading what [`PoseBuffers::skin_vertex`] reads of vertex
     /// `v` (its bind position, joints and weights; a hint).
+    #[inline(always)]
+    pub fn prefetch_vertex(character: &Character, model: SkinningModel, v: usize) {
+        SkinPose::prefetch_vertex(character, model, v);
+    }
+
+    /// Vertex `v` skinned with `model` from the current skin matrices (the
+    /// same arithmetic as [`PoseBuffers::skin_all`], bit for bit).
+    #[inline]
+    pub fn skin_vertex(&self, character: &Character, model: SkinningModel, v: usize) -> Point {
+        self.skin_pose().skin_vertex(character, model, v)
+    }
+}
+
+/// What skinning reads of a pose: each joint's skin matrix (world ·
+/// inverse bind, placed) and the placed skeleton base (the parent frame of
+/// root joints in the paper's model). Borrowed from a [`PoseBuffers`] or
+/// from a world's copy of a character's pose.
+#[derive(Clone, Copy, Debug)]
+pub struct SkinPose<'a> {
+    /// One matrix per joint.
+    pub skin: &'a [Matrix4<f32>],
+    /// The placed skeleton base.
+    pub base: &'a Matrix4<f32>,
+}
+
+impl SkinPose<'_> {
+    /// An upper bound of the distance from the origin of any vertex skinned
+    /// from these matrices, for a character whose bind vertices lie within
+    /// `bind_reach` of the origin ([`PoseBuffers::reach`]). Not finite when
+    /// a matrix is not.
+    pub fn reach(&self, bind_reach: f32) -> f32 {
+        self.skin
+            .iter()
+            .chain([self.base])
+            .map(|m| {
+                let linear = m.fixed_view::<3, 3>(0, 0).norm();
+                let t = m.fixed_view::<3, 1>(0, 3).norm();
+                linear * bind_reach + t
+            })
+            .fold(
+                0.0,
+                |a: f32, b| if b.is_nan() { f32::INFINITY } else { a.max(b) },
+            )
+    }
+
+    /// Every vertex skinned with `model` into `out` (one point per vertex).
+    pub fn skin_all_into(&self, character: &Character, model: SkinningModel, out: &mut [Point]) {
+        skin_every_vertex(character, model, self.skin, self.base, out);
+    }
+
+    /// Starts loading what [`SkinPose::skin_vertex`] reads of vertex `v`
+    /// (its bind position, joints and weights; a hint).
     #[inline(always)]
     pub fn prefetch_vertex(character: &Character, model: SkinningModel, v: usize) {
         crate::prefetch::prefetch_at(character.mesh.positions(), v);
@@ -176,17 +226,17 @@ impl PoseBuffers {
         }
     }
 
-    /// Vertex `v` skinned with `model` from the current skin matrices (the
-    /// same arithmetic as [`PoseBuffers::skin_all`], bit for bit).
+    /// Vertex `v` skinned with `model` (the same arithmetic as
+    /// [`SkinPose::skin_all_into`], bit for bit).
     #[inline]
     pub fn skin_vertex(&self, character: &Character, model: SkinningModel, v: usize) -> Point {
         let p = &character.mesh.positions()[v];
         match model {
-            SkinningModel::Linear => character.influences.skin_vertex(v, p, &self.skin),
+            SkinningModel::Linear => character.influences.skin_vertex(v, p, self.skin),
             SkinningModel::Paper => {
                 character
                     .paper
-                    .skin_vertex(&character.skeleton, &self.base, v, p, &self.skin)
+                    .skin_vertex(&character.skeleton, self.base, v, p, self.skin)
             }
         }
     }

@@ -13,7 +13,7 @@
 
 use crate::geometry::{Point, Triangle};
 
-use super::{Character, PoseBuffers, SkinningModel};
+use super::{Character, SkinPose, SkinningModel};
 
 /// Posed positions of the vertices asked for this frame.
 #[derive(Clone, Debug)]
@@ -54,7 +54,7 @@ impl OnDemandSkin {
     #[inline]
     pub fn ensure(
         &mut self,
-        pose: &PoseBuffers,
+        pose: SkinPose<'_>,
         character: &Character,
         model: SkinningModel,
         v: u32,
@@ -74,12 +74,12 @@ impl OnDemandSkin {
         let i = v as usize;
         crate::prefetch::prefetch_at(&self.stamp, i);
         crate::prefetch::prefetch_at(&self.positions, i);
-        PoseBuffers::prefetch_vertex(character, model, i);
+        SkinPose::prefetch_vertex(character, model, i);
     }
 
-    /// Skins every vertex for this frame's pose ([`PoseBuffers::skin_all`]'s
+    /// Skins every vertex for this frame's pose ([`SkinPose::skin_all_into`]'s
     /// arithmetic, which is [`OnDemandSkin::ensure`]'s).
-    pub fn skin_all(&mut self, pose: &PoseBuffers, character: &Character, model: SkinningModel) {
+    pub fn skin_all(&mut self, pose: SkinPose<'_>, character: &Character, model: SkinningModel) {
         pose.skin_all_into(character, model, &mut self.positions);
         self.skinned = self.positions.len() as u64;
         self.all = true;
@@ -112,6 +112,7 @@ impl OnDemandSkin {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::character::PoseBuffers;
     use crate::humanoid::{HumanoidParams, generate_humanoid};
     use nalgebra::{Matrix4, Vector3};
 
@@ -139,8 +140,8 @@ mod tests {
             pose.skin_all(&c, model);
             lazy.begin_frame();
             for v in (0..n).step_by(7) {
-                lazy.ensure(&pose, &c, model, v);
-                lazy.ensure(&pose, &c, model, v);
+                lazy.ensure(pose.skin_pose(), &c, model, v);
+                lazy.ensure(pose.skin_pose(), &c, model, v);
             }
             assert_eq!(lazy.skinned(), u64::from(n.div_ceil(7)));
             for v in 0..n {
@@ -152,8 +153,8 @@ mod tests {
             // Everything at once: the same positions, all current; the next
             // frame starts empty again.
             lazy.begin_frame();
-            lazy.skin_all(&pose, &c, model);
-            lazy.ensure(&pose, &c, model, 3);
+            lazy.skin_all(pose.skin_pose(), &c, model);
+            lazy.ensure(pose.skin_pose(), &c, model, 3);
             assert_eq!(lazy.skinned(), u64::from(n));
             for v in 0..n {
                 assert_eq!(lazy.position(v), pose.positions[v as usize], "vertex {v}");

@@ -91,7 +91,7 @@ impl fmt::Display for SkinningModel {
 }
 
 /// Why per-vertex skinning data is unusable. Vertex indices are the mesh's.
-#[derive(Debug, thiserror::Error, PartialEq)]
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum SkinError {
     #[error("{what} has {got} entries for {vertices} vertices")]
     Length {

@@ -1,5 +1,7 @@
 //! Bounding sphere and the sphere-sphere overlap test.
 
+use nalgebra::Isometry3;
+
 use super::scalar::Scalar;
 use super::vec3::{V3, norm_squared, sub, widen};
 use super::{Point, Real};
@@ -59,7 +61,36 @@ impl Sphere {
     pub fn is_valid(&self) -> bool {
         self.center.iter().all(|c| c.is_finite()) && self.radius.is_finite() && self.radius >= 0.0
     }
+
+    /// This ball in the frame `to` maps into, grown to cover the rounding of
+    /// the transform in `f32`: every point of the ball, mapped by `to`,
+    /// lies in the result.
+    ///
+    /// ```
+    /// use cornertree::geometry::{Point, Sphere};
+    /// use nalgebra::{Isometry3, Vector3};
+    ///
+    /// let s = Sphere::new(Point::new(1.0, 0.0, 0.0), 0.5);
+    /// let to = Isometry3::new(Vector3::new(0.0, 2.0, 0.0), Vector3::new(0.0, 0.0, 1.0));
+    /// let moved = s.in_frame(&to);
+    /// let far_point = to * Point::new(1.5, 0.0, 0.0);
+    /// assert!(moved.contains_point(&far_point, 0.0));
+    /// assert!(moved.radius < 0.5 + 1e-5);
+    /// ```
+    #[inline]
+    pub fn in_frame(&self, to: &Isometry3<Real>) -> Sphere {
+        let c = to * self.center;
+        let pad = FRAME_CHANGE_SLACK
+            * (self.center.coords.norm() + to.translation.vector.norm() + self.radius);
+        Sphere::new(c, self.radius + pad)
+    }
 }
+
+/// Relative slack added to a sphere's radius when it changes frame
+/// ([`Sphere::in_frame`]): a rigid transform in `f32` moves a point by a few
+/// units in the last place of its coordinates and of the translation; eight
+/// is generous.
+const FRAME_CHANGE_SLACK: Real = 8.0 * Real::EPSILON;
 
 /// Whether the closed balls `(c1, r1)` and `(c2, r2)` share a point:
 /// `‖c1 - c2‖² <= (r1 + r2)²`.

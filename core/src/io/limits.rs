@@ -80,7 +80,7 @@ impl Budget {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "gltf"))]
 mod tests {
     use super::*;
 

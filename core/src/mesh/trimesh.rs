@@ -14,7 +14,7 @@ impl TriangleId {
 }
 
 /// Why a set of positions and indices is not a usable mesh.
-#[derive(Debug, thiserror::Error, PartialEq)]
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
     #[error("mesh has no triangles")]
     NoTriangles,

@@ -3,7 +3,7 @@
 //!
 //! The broad phase is generic over a [`VisitLog`]: [`NoLog`], a zero-sized
 //! type whose calls compile to nothing, in the measured path; [`TestedNodes`]
-//! when a recorder asks for it ([`super::driver::Pipeline::set_visit_log`]).
+//! when a recorder asks for it ([`crate::world::CollisionWorld::set_visit_log`]).
 //! Either way it is the same traversal, so what a recording calls *tested* is
 //! what was measured.
 //!

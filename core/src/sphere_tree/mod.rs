@@ -25,19 +25,19 @@
 pub mod build;
 pub mod character;
 pub mod containment;
-pub mod grouped;
+pub(crate) mod grouped;
 pub mod node;
-pub mod pass_marks;
+pub(crate) mod pass_marks;
 pub mod refit;
-pub mod refit_ahead;
+mod refit_ahead;
 pub mod swept;
 pub mod swept_rigid;
 pub mod traverse;
 pub mod validate;
 
 pub use build::{BuildParams, build_tree};
-pub use grouped::traverse_grouped;
+pub(crate) use grouped::traverse_grouped;
 pub use node::{Node, NodeId, SphereTree};
-pub use pass_marks::PassMarks;
+pub(crate) use pass_marks::PassMarks;
 pub use traverse::{Hierarchy, TraversalStats, Workspace, traverse, traverse_guarded};
 pub use validate::TreeError;

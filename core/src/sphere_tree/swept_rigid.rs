@@ -27,7 +27,6 @@ use nalgebra::{Isometry3, Vector3};
 use crate::geometry::enclosing::round_up;
 use crate::geometry::sphere::distance_f64;
 use crate::geometry::{Point, Sphere};
-use crate::pipeline::bodies::sphere_in_frame;
 
 use super::node::{NodeId, SphereTree};
 use super::traverse::Hierarchy;
@@ -61,8 +60,8 @@ impl RigidPath {
     /// The ball holding a sphere `s` of the object's frame over the step
     /// (module doc), in world coordinates.
     pub fn sweep(&self, s: &Sphere) -> Sphere {
-        let a = sphere_in_frame(s, &self.from);
-        let b = sphere_in_frame(s, &self.to);
+        let a = s.in_frame(&self.from);
+        let b = s.in_frame(&self.to);
         let mid = |x: f32, y: f32| ((x as f64 + y as f64) * 0.5) as f32;
         let center = Point::new(
             mid(a.center.x, b.center.x),
@@ -132,10 +131,8 @@ mod tests {
             assert!(w.contains_point(&p, 0.0), "{i}: {p:?} outside {w:?}");
         }
         // The ball around both ends alone would not do.
-        let chord = super::super::swept::enclosing_pair(
-            &sphere_in_frame(&s, &path.from),
-            &sphere_in_frame(&s, &path.to),
-        );
+        let chord =
+            super::super::swept::enclosing_pair(&s.in_frame(&path.from), &s.in_frame(&path.to));
         assert!(!chord.contains_point(&(at(0.5) * s.center), 0.0));
     }
 

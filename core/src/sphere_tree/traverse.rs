@@ -30,6 +30,12 @@ pub trait Hierarchy {
     fn prefetch(&self, id: NodeId) {
         prefetch_at(self.tree().nodes(), id.index());
     }
+    /// Time-stamp ticks spent refitting spheres so far, for a hierarchy
+    /// that refits and times it (by default none).
+    #[inline]
+    fn refit_ticks(&self) -> u64 {
+        0
+    }
 }
 
 impl Hierarchy for SphereTree {

@@ -1,20 +1,36 @@
-//! Worlds: several characters, moving rigid objects and a static room, on
-//! one frame loop (the paper's "virtual world composed of several
-//! interactive avatars ... and objects", §1).
+//! Worlds: skinned characters, moving rigid objects and static rooms on one
+//! step (the paper's "virtual world composed of several interactive
+//! avatars ... and objects", §1), the library's entry point.
 //!
 //! | file | what |
 //! |---|---|
-//! | [`continuous_outcome`] | [`ContinuousOutcome`]: pairs touching during a step, with times of impact |
-//! | [`pass_graph`] | [`pass_graph::PassGraph`]: a frame's passes, run on every thread, a character's own pass before its pairs, one pass per character at a time, no barrier between kinds |
-//! | [`pinning`] | each thread of a world's pool on a processor of its own (Linux) |
-//! | [`outcome`] | [`MethodOutcome`]: counters per pair kind and in total, pairs of every kind |
+//! | [`collision_world`] | [`CollisionWorld`]: bodies by handle, poses, settings, observers' views |
+//! | `step` | [`CollisionWorld::step`]: a discrete step, every pass on the caller's threads |
+//! | `sweep` | [`CollisionWorld::sweep`]: continuous detection over the step since the last sweep |
+//! | [`character_model`] | [`CharacterModel`]: what a character instance is made from, checked once |
+//! | [`contacts`] | [`Contacts`]: pairs of every kind by handle, with counters ([`StepContacts`], [`SweepContacts`]) |
+//! | [`handles`] | [`RoomHandle`], [`ObjectHandle`], [`CharacterHandle`] |
+//! | [`error`] | [`WorldError`]: the caller's bad data, named |
+//! | `bodies` | what each body keeps between steps |
+//! | [`pass_graph`] | a step's passes on every thread, a character's own passes before its pairs, one pass per character at a time |
+//! | [`pinning`] | opt-in: each thread of a pool on a processor of its own (Linux) |
 
-pub mod continuous_outcome;
-pub mod outcome;
-pub mod pass_graph;
+pub(crate) mod bodies;
+pub mod character_model;
+pub mod collision_world;
+pub mod contacts;
+pub mod error;
+pub mod handles;
+pub(crate) mod pass_graph;
 pub mod pinning;
+mod step;
+mod sweep;
 
-pub use continuous_outcome::{ContinuousOutcome, Timed};
-pub use outcome::{
-    ByKind, CharacterPair, MethodOutcome, ObjectPair, PairKind, RoomPair, add_counters,
+pub use character_model::CharacterModel;
+pub use collision_world::{CharacterView, CollisionWorld, WorldSettings};
+pub use contacts::{
+    ByKind, CharacterPair, Contacts, Detection, Discrete, ObjectPair, PairKind, RoomPair,
+    StepContacts, SweepContacts, Swept, Timed,
 };
+pub use error::WorldError;
+pub use handles::{CharacterHandle, ObjectHandle, RoomHandle};

@@ -80,10 +80,6 @@ impl PassGraph {
         self.characters + self.pairs.len()
     }
 
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
     /// Character pair of pass `t` (`None` for a character's own pass).
     pub fn pair(&self, t: usize) -> Option<(u32, u32)> {
         t.checked_sub(self.characters).map(|k| self.pairs[k])

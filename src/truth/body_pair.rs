@@ -1,4 +1,6 @@
-//! One frame's ground truth and each method's score against it.
+//! The ground truth of one pair of bodies in a frame (a character against a
+//! room, an object or another character) and a method's score on it: the
+//! piece [`super::Truth`] is made of.
 //!
 //! The truth of a frame is the exact answer on parry's broad phase
 //! ([`ParryReference::exact_pairs`]); parry's own answer
@@ -71,8 +73,9 @@ pub struct MethodTruth {
     pub vs_parry: Disagreement,
 }
 
-/// The reference of the current frame (reused from frame to frame).
-pub struct FrameTruth {
+/// The reference of one body pair in the current frame (reused from frame
+/// to frame): the first body's triangles are queried against the second's.
+pub struct BodyPairTruth {
     reference: ParryReference,
     tolerances: Tolerances,
     /// Exact colliding pairs: the truth.
@@ -88,7 +91,7 @@ pub struct FrameTruth {
     missed: Vec<(u32, u32)>,
 }
 
-impl FrameTruth {
+impl BodyPairTruth {
     pub fn new(environment: &TriMesh, character_indices: &[[u32; 3]]) -> Result<Self, TruthError> {
         Ok(Self {
             reference: ParryReference::new(environment, character_indices)?,

@@ -1,7 +1,10 @@
-//! The ground truth of a world, per pair kind: the exact oracle on parry's
-//! broad phase (as [`FrameTruth`] does for one character in a room) for every
-//! character against the room, every character against every object, and
-//! every two characters; parry's own answer beside it.
+//! The ground truth of a frame, for one character in a room or a whole
+//! world, per pair kind: the exact oracle on parry's broad phase
+//! ([`BodyPairTruth`], one per body pair) for every character against the
+//! room, every character against every object, and every two characters;
+//! parry's own answer beside it. Every command that scores a method reads
+//! it: per kind (precision and recall), and per body pair in detail (false
+//! positives with their distances, false negatives with their causes).
 //!
 //! * Against an object, the truth is taken in the object's frame: the
 //!   character's skinned vertices are moved there by the inverse of the
@@ -14,12 +17,15 @@
 use nalgebra::Isometry3;
 use serde::Serialize;
 
-use super::{Accuracy, FrameTruth, TruthError};
+use super::{Accuracy, BodyPairTruth, MethodContext, MethodTruth, TruthError};
 use crate::scenario::Resolved;
 use cornertree::character::PoseBuffers;
 use cornertree::geometry::{Point, bounds_of};
 use cornertree::mesh::TriMesh;
-use cornertree::world::{ByKind, CharacterPair, MethodOutcome, ObjectPair, RoomPair};
+use cornertree::world::{
+    ByKind, CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
+    StepContacts,
+};
 
 /// This frame's pairs of every kind, sorted.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -29,12 +35,14 @@ pub struct WorldPairs {
     pub characters: Vec<CharacterPair>,
 }
 
-/// The reference of the current frame of a world.
-pub struct WorldTruth {
-    room: Vec<FrameTruth>,
+/// The reference of the current frame.
+pub struct Truth {
+    room: Vec<BodyPairTruth>,
     /// `[character][object]`, built when first needed.
-    objects: Vec<Vec<Option<FrameTruth>>>,
+    objects: Vec<Vec<Option<BodyPairTruth>>>,
     moved: Vec<Point>,
+    /// A method's pairs of one body pair, gathered for a detailed score.
+    reported: Vec<(u32, u32)>,
     /// Exactly colliding pairs: the truth.
     pub exact: WorldPairs,
     /// parry's colliding pairs.
@@ -50,12 +58,12 @@ fn overlap(a: Option<(Point, Point)>, b: Option<(Point, Point)>) -> bool {
     }
 }
 
-impl WorldTruth {
+impl Truth {
     pub fn new(scene: &Resolved) -> Result<Self, TruthError> {
         let room = scene
             .characters
             .iter()
-            .map(|a| FrameTruth::new(&scene.environment.mesh, a.character.mesh.indices()))
+            .map(|a| BodyPairTruth::new(&scene.environment.mesh, a.character.mesh.indices()))
             .collect::<Result<_, _>>()?;
         Ok(Self {
             room,
@@ -65,6 +73,7 @@ impl WorldTruth {
                 .map(|_| scene.objects.iter().map(|_| None).collect())
                 .collect(),
             moved: Vec::new(),
+            reported: Vec::new(),
             exact: WorldPairs::default(),
             parry: WorldPairs::default(),
         })
@@ -94,8 +103,9 @@ impl WorldTruth {
             let t = &mut self.room[i];
             t.update(&b.positions, indices, &scene.environment.mesh)?;
             let room = |&(c, e): &(u32, u32)| RoomPair {
-                character: i as u32,
+                character: CharacterHandle(i as u32),
                 triangle: c,
+                room: RoomHandle(0),
                 room_triangle: e,
             };
             exact.environment.extend(t.exact.iter().map(room));
@@ -107,7 +117,7 @@ impl WorldTruth {
                 }
                 let slot = &mut self.objects[i][o];
                 if slot.is_none() {
-                    *slot = Some(FrameTruth::new(&prop.mesh, indices)?);
+                    *slot = Some(BodyPairTruth::new(&prop.mesh, indices)?);
                 }
                 let t = slot.as_mut().expect("just built");
                 let inv = pose.inverse();
@@ -115,9 +125,9 @@ impl WorldTruth {
                 self.moved.extend(b.positions.iter().map(|p| inv * p));
                 t.update(&self.moved, indices, &prop.mesh)?;
                 let pair = |&(c, e): &(u32, u32)| ObjectPair {
-                    character: i as u32,
+                    character: CharacterHandle(i as u32),
                     triangle: c,
-                    object: o as u32,
+                    object: ObjectHandle(o as u32),
                     object_triangle: e,
                 };
                 exact.objects.extend(t.exact.iter().map(pair));
@@ -137,13 +147,13 @@ impl WorldTruth {
                 )
                 .map_err(|_| TruthError::NoTriangles("character"))?;
                 let indices_j = aj.character.mesh.indices();
-                let mut t = FrameTruth::new(&mesh_i, indices_j)?;
+                let mut t = BodyPairTruth::new(&mesh_i, indices_j)?;
                 t.update(&buffers[j].positions, indices_j, &mesh_i)?;
-                // FrameTruth pairs are (queried triangle, reference triangle).
+                // BodyPairTruth pairs are (queried triangle, reference triangle).
                 let pair = |&(tj, ti): &(u32, u32)| CharacterPair {
-                    a: i as u32,
+                    a: CharacterHandle(i as u32),
                     triangle_a: ti,
-                    b: j as u32,
+                    b: CharacterHandle(j as u32),
                     triangle_b: tj,
                 };
                 exact.characters.extend(t.exact.iter().map(pair));
@@ -159,7 +169,7 @@ impl WorldTruth {
     }
 
     /// A method's pairs against the truth, per kind.
-    pub fn score(&self, outcome: &MethodOutcome) -> ByKind<Accuracy> {
+    pub fn score(&self, outcome: &StepContacts) -> ByKind<Accuracy> {
         ByKind {
             environment: Accuracy::of_sorted(
                 outcome.room_pairs.iter(),
@@ -171,6 +181,42 @@ impl WorldTruth {
                 self.exact.characters.iter(),
             ),
         }
+    }
+
+    /// Character `c`'s pairs with the room in `contacts`, scored in detail
+    /// against the truth of its body pair: accuracy at three levels, false
+    /// positives with their distances, false negatives with their causes,
+    /// differences with parry's answer. `positions` are its skinned
+    /// vertices this frame.
+    pub fn room_detail(
+        &mut self,
+        c: usize,
+        contacts: &StepContacts,
+        scene: &Resolved,
+        positions: &[Point],
+        method: &MethodContext<'_>,
+    ) -> Result<MethodTruth, TruthError> {
+        self.reported.clear();
+        self.reported.extend(
+            contacts
+                .room_contacts_of(CharacterHandle(c as u32))
+                .iter()
+                .map(|p| (p.triangle, p.room_triangle)),
+        );
+        let indices = scene.characters[c].character.mesh.indices();
+        self.room[c].score(
+            &self.reported,
+            positions,
+            indices,
+            &scene.environment.mesh,
+            method,
+        )
+    }
+
+    /// Character `c`'s body pair with the room: its exact and parry pairs,
+    /// parry's differences with the exact ones.
+    pub fn room(&self, c: usize) -> &BodyPairTruth {
+        &self.room[c]
     }
 
     /// parry's pairs against the truth, per kind.

@@ -1,7 +1,7 @@
-//! `run --ccd`'s observer of the frame loop ([`super::play`]): continuous
-//! detection of every method over each frame step, its score against the
-//! sub-stepped reference, its part of the JSON report and of the
-//! recordings (docs/ccd.md, "In the driver").
+//! `run --ccd`'s observer of the frame loop ([`crate::cli::play`]):
+//! continuous detection of every method over each frame step, its score
+//! against the sub-stepped reference, its part of the JSON report and of
+//! the recordings (docs/ccd.md, "In the driver").
 
 use cornertree::geometry::Point;
 use cornertree::geometry::ccd_root_finder::CcdParams;
@@ -9,14 +9,14 @@ use cornertree_workbench::record::ccd_recorder::{CcdRecorder, StepView};
 use cornertree_workbench::report::continuous::{
     ContinuousFrameRecord, ContinuousTotals, discrete_step_pairs,
 };
+use cornertree_workbench::session::Session;
 use cornertree_workbench::truth::substep::{StepBodies, SubstepTruth};
 use cornertree_workbench::truth::substep_score::{StepPair, score_step};
-use cornertree_workbench::world::{ContinuousWorld, World};
 use nalgebra::Isometry3;
 
 /// Continuous detection beside a run.
 pub struct ContinuousObserver {
-    cw: ContinuousWorld,
+    params: CcdParams,
     truth: Option<SubstepTruth>,
     substeps: u32,
     /// Every character's skinned vertices and every object's pose at the
@@ -31,29 +31,30 @@ pub struct ContinuousObserver {
 }
 
 impl ContinuousObserver {
-    /// For every method of `world`; the reference if `truth`; a recorder
-    /// for the methods `recorded` says.
-    pub fn new(world: &World, substeps: u32, truth: bool, recorded: &[bool]) -> Self {
-        let n = world.methods.len();
-        let recorders = world
-            .methods
+    /// For every method of `session` (continuous detection turned on in
+    /// its worlds); the reference if `truth`; a recorder for the methods
+    /// `recorded` says.
+    pub fn new(session: &mut Session, substeps: u32, truth: bool, recorded: &[bool]) -> Self {
+        let params = CcdParams::default();
+        session.enable_continuous(params);
+        let n = session.worlds().len();
+        let recorders = session
+            .worlds()
             .iter()
             .zip(recorded)
-            .map(|(mw, &on)| {
+            .map(|(w, &on)| {
                 on.then(|| {
-                    let guards: Vec<_> = mw
-                        .character_pipelines()
-                        .iter()
-                        .map(|p| p.lock().expect("no pass panicked"))
+                    let views: Vec<_> = (0..session.scene.characters.len())
+                        .map(|c| w.character(session.character(c)).expect("character"))
                         .collect();
-                    let trees: Vec<_> = guards.iter().map(|g| &g.character_tree).collect();
-                    CcdRecorder::new(&world.scene, &trees)
+                    let trees: Vec<_> = views.iter().map(|v| v.tree()).collect();
+                    CcdRecorder::new(&session.scene, &trees)
                 })
             })
             .collect();
         Self {
-            cw: ContinuousWorld::new(world, CcdParams::default()),
-            truth: truth.then(|| SubstepTruth::new(&world.scene, substeps)),
+            params,
+            truth: truth.then(|| SubstepTruth::new(&session.scene, substeps)),
             substeps,
             prev_positions: Vec::new(),
             prev_poses: Vec::new(),
@@ -71,7 +72,7 @@ impl ContinuousObserver {
 
     /// The reference of the step ending at frame `k` (every vertex of
     /// `world` skinned for `k`).
-    pub fn begin_frame(&mut self, world: &World, k: usize) {
+    pub fn begin_frame(&mut self, world: &Session, k: usize) {
         if k == 0 || self.prev_positions.is_empty() {
             return;
         }
@@ -82,39 +83,49 @@ impl ContinuousObserver {
     }
 
     /// Method `m`'s step ending at frame `k`, after its discrete frame
-    /// (whose pairs are read from `world`); logs to `rec` if given.
+    /// (whose pairs are read from `session`); logs to `rec` if given.
     pub fn method(
         &mut self,
-        world: &mut World,
+        session: &mut Session,
         k: usize,
         m: usize,
         rec: Option<&rerun::RecordingStream>,
-    ) -> rerun::RecordingStreamResult<Option<ContinuousFrameRecord>> {
-        self.cw.detect(world, k, m);
-        discrete_step_pairs(&world.methods[m].outcome, &mut self.discrete[m]);
+    ) -> anyhow::Result<Option<ContinuousFrameRecord>> {
+        session.sweep(m, k)?;
+        discrete_step_pairs(session.contacts(m), &mut self.discrete[m]);
         if k == 0 || self.prev_positions.is_empty() {
             return Ok(None);
         }
-        let world = &*world;
-        let outcome = self.cw.outcome(m);
-        let bodies = bodies(&self.prev_positions, &self.prev_poses, world);
+        let session = &*session;
+        let world = session.world(m);
+        let outcome = world.sweep_contacts().expect("continuous detection is on");
+        let bodies = bodies(&self.prev_positions, &self.prev_poses, session);
         let score = self
             .truth
             .as_ref()
-            .map(|t| score_step(t, outcome, &bodies, &self.cw.params));
-        let record =
-            ContinuousFrameRecord::new(outcome, &self.prev_discrete[m], &self.discrete[m], score);
+            .map(|t| score_step(t, outcome, &bodies, &self.params));
+        let record = ContinuousFrameRecord::new(
+            k,
+            outcome,
+            &self.prev_discrete[m],
+            &self.discrete[m],
+            score,
+        );
         self.totals[m].add(&record, self.substeps);
         if let (Some(rec), Some(r)) = (rec, &self.recorders[m]) {
+            let views: Vec<_> = (0..session.scene.characters.len())
+                .map(|c| world.character(session.character(c)).expect("character"))
+                .collect();
             let view = StepView {
-                scene: &world.scene,
+                scene: &session.scene,
                 outcome,
                 start: bodies.start.clone(),
                 end: bodies.end.clone(),
                 object_start: &self.prev_poses,
-                object_end: &world.object_poses,
-                sweeps: (0..world.scene.characters.len())
-                    .map(|c| self.cw.sweep(m, c))
+                object_end: &session.object_poses,
+                sweeps: views
+                    .iter()
+                    .map(|v| v.sweep_state().expect("continuous detection is on"))
                     .collect(),
                 missed_by_discrete: &record.missed_by_discrete,
                 recall: record.reference.as_ref().map(|s| s.recall),
@@ -125,8 +136,7 @@ impl ContinuousObserver {
     }
 
     /// Ends frame `k`: its pose becomes the next step's start.
-    pub fn end_frame(&mut self, world: &World, k: usize) {
-        self.cw.end_frame(world, k);
+    pub fn end_frame(&mut self, world: &Session) {
         self.prev_positions
             .resize_with(world.buffers.len(), Vec::new);
         for (p, b) in self.prev_positions.iter_mut().zip(&world.buffers) {
@@ -137,15 +147,15 @@ impl ContinuousObserver {
     }
 
     /// One line per method for the run's summary.
-    pub fn summary(&self, world: &World) -> String {
+    pub fn summary(&self, world: &Session) -> String {
         let mut out = format!(
             "continuous detection (per frame step; reference: exact oracle on {} sub-steps):\n",
             self.substeps
         );
-        for (mw, t) in world.methods.iter().zip(&self.totals) {
+        for (method, t) in world.methods().zip(&self.totals) {
             out += &format!(
                 "  {:32} {} steps, {} pairs, {} missed by discrete at both ends ({} steps), earliest toi {}, {:.3} ms mean / {:.3} max",
-                mw.method.name(),
+                method.name(),
                 t.steps,
                 t.pairs,
                 t.missed_by_discrete,
@@ -171,7 +181,7 @@ impl ContinuousObserver {
 fn bodies<'a>(
     prev_positions: &'a [Vec<Point>],
     prev_poses: &'a [Isometry3<f32>],
-    world: &'a World,
+    world: &'a Session,
 ) -> StepBodies<'a> {
     StepBodies {
         scene: &world.scene,

@@ -1,0 +1,105 @@
+//! What a pass costs: tests by kind (the paper's operation model, §6),
+//! refits, skinned vertices, pairs, and milliseconds per stage.
+
+use std::time::Instant;
+
+use crate::geometry::ops;
+
+/// What one pass, or a sum of passes, cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct FrameCounters {
+    /// Sphere-sphere tests (10 operations each).
+    pub sphere_sphere: u64,
+    /// Triangle-triangle tests (96 operations each).
+    pub tri_tri: u64,
+    /// Plane-sphere tests (30 operations each).
+    pub plane_sphere: u64,
+    /// Character spheres refit.
+    pub refits: u64,
+    /// Distinct colliding pairs.
+    pub pairs: u64,
+    /// Character vertices skinned (corners of triangle-tested character
+    /// triangles).
+    pub skinned_vertices: u64,
+    /// Milliseconds per stage.
+    pub time: FrameTime,
+}
+
+/// Milliseconds spent per stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct FrameTime {
+    /// Joint matrices: clip sampling, world and skin matrices, placement (set
+    /// by the caller, who poses once for every method).
+    pub pose_ms: f64,
+    /// The vertices the narrow phase reads.
+    pub skinning_ms: f64,
+    /// Character spheres refit (when timed apart from traversal).
+    pub refit_ms: f64,
+    /// Traversal of both trees.
+    pub traversal_ms: f64,
+    /// The leaf tests.
+    pub narrow_ms: f64,
+}
+
+impl FrameTime {
+    /// The sum of every stage.
+    pub fn total_ms(&self) -> f64 {
+        self.pose_ms + self.skinning_ms + self.refit_ms + self.traversal_ms + self.narrow_ms
+    }
+}
+
+impl FrameCounters {
+    /// Basic operations in the paper's model: `10·SS + 96·TT + 30·PS` (§6).
+    ///
+    /// ```
+    /// use cornertree::pipeline::FrameCounters;
+    ///
+    /// let c = FrameCounters { sphere_sphere: 200_000, tri_tri: 150_000, ..Default::default() };
+    /// assert_eq!(c.operations(), 200_000 * 10 + 150_000 * 96);
+    /// ```
+    pub fn operations(&self) -> u64 {
+        ops::SPHERE_SPHERE * self.sphere_sphere
+            + ops::TRI_TRI * self.tri_tri
+            + ops::PLANE_SPHERE * self.plane_sphere
+    }
+
+    /// Adds `b`'s tests, pairs, refits, skinned vertices and times.
+    pub fn add(&mut self, b: &FrameCounters) {
+        self.sphere_sphere += b.sphere_sphere;
+        self.tri_tri += b.tri_tri;
+        self.plane_sphere += b.plane_sphere;
+        self.refits += b.refits;
+        self.pairs += b.pairs;
+        self.skinned_vertices += b.skinned_vertices;
+        self.time.pose_ms += b.time.pose_ms;
+        self.time.skinning_ms += b.time.skinning_ms;
+        self.time.refit_ms += b.time.refit_ms;
+        self.time.traversal_ms += b.time.traversal_ms;
+        self.time.narrow_ms += b.time.narrow_ms;
+    }
+}
+
+/// Milliseconds since `t0`.
+#[inline]
+pub(crate) fn ms_since(t0: Instant) -> f64 {
+    t0.elapsed().as_secs_f64() * 1e3
+}
+
+/// The CPU's time-stamp counter (x86_64), or nanoseconds elsewhere: what
+/// the refit timers of a traversal count.
+#[inline]
+pub(crate) fn ticks() -> u64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        // SAFETY: RDTSC has no preconditions on x86_64.
+        unsafe { std::arch::x86_64::_rdtsc() }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        use std::sync::OnceLock;
+        static START: OnceLock<Instant> = OnceLock::new();
+        START.get_or_init(Instant::now).elapsed().as_nanos() as u64
+    }
+}

@@ -1,0 +1,179 @@
+//! The one pass skeleton: two bodies' hierarchies traversed together, then
+//! every overlapping leaf pair answered (paper §3, "Collision detection"
+//! and "Narrow phase").
+//!
+//! Every pass of a world is this loop: a character against the room, against
+//! a moving object, against another character, discrete or swept over a
+//! frame step. What differs is a policy, a [`Pass`]:
+//!
+//! 1. **traversal**: which hierarchies, which guard on the way down (the
+//!    pruned methods' plane and edge planes, a swept pass's interpolated
+//!    spheres), which leaves are grouped (a big triangle's division);
+//! 2. **preparation** of the leaf pairs: the corners the leaf tests will
+//!    read skinned (discrete), or nothing;
+//! 3. **the leaf test** of each pair: the method's (triangle-triangle,
+//!    Algorithm 1's plane-sphere test, or their continuous forms);
+//! 4. **the hits' order**: sorted, repeats removed.
+//!
+//! [`run`] times the stages, counts the tests (the paper's operation model)
+//! and what the pass refit and skinned, and sizes its buffers once: after
+//! the first frame a pass allocates nothing.
+
+use std::time::Instant;
+
+use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
+use crate::sphere_tree::{PassMarks, Workspace};
+
+use super::counters::{FrameCounters, ms_since, ticks};
+use super::prepared_triangles::PreparedTriangles;
+
+/// What one traversal found and cost.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Traversed {
+    /// The traversal's own counters.
+    pub(crate) stats: TraversalStats,
+    /// Sphere tests a guard made besides the traversal's (a swept pass's
+    /// interpolated spheres).
+    pub(crate) guard_sphere_tests: u64,
+    /// Plane-sphere tests a guard made on the way down.
+    pub(crate) plane_tests: u64,
+    /// Time-stamp ticks spent refitting, when timed.
+    pub(crate) refit_ticks: u64,
+}
+
+/// The leaf pairs of a traversal and the working memory of its tests, kept
+/// from frame to frame.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PassScratch {
+    pub(crate) workspace: Workspace,
+    pub(crate) leaf_pairs: Vec<LeafPair>,
+    /// The narrow phase's triangles prepared for the triangle-triangle
+    /// test, one table per side.
+    pub(crate) prepared: [PreparedTriangles; 2],
+    warmed_up: bool,
+}
+
+impl PassScratch {
+    /// The leaf pairs of the last pass, as traversal handed them over.
+    pub(crate) fn leaf_pairs(&self) -> &[LeafPair] {
+        &self.leaf_pairs
+    }
+}
+
+/// A character's marks kept between its passes of a frame: which (triangle,
+/// big triangle) pairs a pass has tested, which spheres it has descended
+/// against a big triangle (the methods that test each pair once).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PassMarksOf {
+    /// Per character triangle, the last big triangle it was tested with.
+    pub(crate) repeats: PassMarks,
+    /// Per character node, the last big triangle it was descended against.
+    pub(crate) groups: PassMarks,
+}
+
+impl PassMarksOf {
+    pub(crate) fn new(triangles: usize, nodes: usize) -> Self {
+        Self {
+            repeats: PassMarks::new(triangles),
+            groups: PassMarks::new(nodes),
+        }
+    }
+}
+
+/// A pass's policy (see the module doc).
+pub(crate) trait Pass {
+    /// What a colliding leaf pair gives.
+    type Hit: Copy;
+
+    /// Spheres refit and vertices skinned so far this frame by the pass's
+    /// characters.
+    fn work(&self) -> (u64, u64);
+
+    /// Traverses both hierarchies, pushing the overlapping leaf pairs to
+    /// `leaf_pairs` (empty on entry).
+    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed;
+
+    /// Whether refit time is split from traversal time (two time-stamp
+    /// reads per refit).
+    fn timed(&self) -> bool {
+        false
+    }
+
+    /// Gets ready what the leaf tests will read (timed as skinning).
+    fn prepare(&mut self, _leaf_pairs: &[LeafPair]) {}
+
+    /// Starts the narrow phase.
+    fn begin_narrow(&mut self) {}
+
+    /// The leaf test of `leaf_pairs[k]`, counted in `c`.
+    fn test(
+        &mut self,
+        leaf_pairs: &[LeafPair],
+        k: usize,
+        prepared: &mut [PreparedTriangles; 2],
+        c: &mut FrameCounters,
+    ) -> Option<Self::Hit>;
+
+    /// Puts the hits in their order (sorted, repeats removed).
+    fn finish(hits: &mut Vec<Self::Hit>);
+}
+
+/// Runs `pass`: traversal, preparation, the leaf test of every pair; fills
+/// `hits` and returns what the pass cost. Refits and skinned vertices are
+/// counted from the pass's start.
+pub(crate) fn run<P: Pass>(
+    pass: &mut P,
+    scratch: &mut PassScratch,
+    hits: &mut Vec<P::Hit>,
+) -> FrameCounters {
+    let mut c = FrameCounters::default();
+    let (refits, skinned) = pass.work();
+
+    let t0 = Instant::now();
+    let tick0 = ticks();
+    scratch.leaf_pairs.clear();
+    let tr = pass.traverse(&mut scratch.workspace, &mut scratch.leaf_pairs);
+    let elapsed = ms_since(t0);
+    if pass.timed() {
+        let total_ticks = ticks().wrapping_sub(tick0).max(1);
+        c.time.refit_ms = elapsed * (tr.refit_ticks as f64 / total_ticks as f64).min(1.0);
+        c.time.traversal_ms = elapsed - c.time.refit_ms;
+    } else {
+        c.time.traversal_ms = elapsed;
+    }
+    c.sphere_sphere = tr.stats.sphere_tests + tr.guard_sphere_tests;
+    c.plane_sphere = tr.plane_tests;
+
+    let t0 = Instant::now();
+    pass.prepare(&scratch.leaf_pairs);
+    c.time.skinning_ms = ms_since(t0);
+
+    let t0 = Instant::now();
+    hits.clear();
+    pass.begin_narrow();
+    let [a, b] = &mut scratch.prepared;
+    a.clear();
+    b.clear();
+    for k in 0..scratch.leaf_pairs.len() {
+        if let Some(hit) = pass.test(&scratch.leaf_pairs, k, &mut scratch.prepared, &mut c) {
+            hits.push(hit);
+        }
+    }
+    let found = hits.len();
+    P::finish(hits);
+    c.pairs = hits.len() as u64;
+    let (refits_now, skinned_now) = pass.work();
+    c.refits = refits_now - refits;
+    c.skinned_vertices = skinned_now - skinned;
+    if !scratch.warmed_up {
+        // After the first frame, room for twice its work, so that later
+        // frames of a similar pose do not grow the buffers.
+        scratch.warmed_up = true;
+        let n = scratch.leaf_pairs.len();
+        scratch.leaf_pairs.reserve(n.max(64));
+        hits.reserve((2 * found).max(64));
+        scratch.workspace.reserve_headroom();
+    }
+    c.time.narrow_ms = ms_since(t0);
+    c
+}

@@ -1,0 +1,266 @@
+//! A character against a rigid body (the room, or a moving object in its
+//! own frame) in one frame: the method's traversal of the character's tree,
+//! refit on demand, against the body's hierarchy with its big triangles'
+//! divisions; the corners of the triangles to be tested skinned on demand;
+//! then at each leaf pair the method's leaf test (paper §3–5).
+
+use crate::geometry::tri_tri::prepared_intersect;
+use crate::mesh::{TriMesh, TriangleId};
+use crate::prefetch::prefetch_at;
+use crate::sphere_tree::traverse::LeafPair;
+use crate::sphere_tree::{
+    Hierarchy, NodeId, PassMarks, SphereTree, Workspace, traverse, traverse_grouped,
+    traverse_guarded,
+};
+
+use super::character_side::CharacterSide;
+use super::counters::FrameCounters;
+use super::frame::{Frame, InFrame};
+use super::pass::{Pass, PassMarksOf, Traversed};
+use super::prepared_triangles::PreparedTriangles;
+use super::visit_log::VisitLog;
+use super::{EnvironmentTree, LeafTest, Method};
+
+/// How many leaf pairs ahead of the one being skinned or tested the
+/// vertices and triangles it will read are prefetched (twice as far, the
+/// triangle's indices that name them).
+const LEAF_PAIRS_AHEAD: usize = 4;
+
+/// A character against a rigid body whose hierarchy `body` and mesh `mesh`
+/// are in the body's frame; `to_body` maps the world into it.
+pub(crate) struct RigidPass<'a, F: Frame, L: VisitLog> {
+    pub(crate) character: CharacterSide<'a>,
+    pub(crate) marks: &'a mut PassMarksOf,
+    pub(crate) body: &'a EnvironmentTree,
+    pub(crate) mesh: &'a TriMesh,
+    pub(crate) to_body: F,
+    pub(crate) method: Method,
+    /// Told of the body's node of every sphere-sphere test.
+    pub(crate) log: &'a mut L,
+    /// Whether refit time is split from traversal time.
+    pub(crate) timed: bool,
+    /// Whether every vertex may be skinned in one sweep when that is
+    /// cheaper than checking stamps (the room pass; see [`Pass::prepare`]).
+    pub(crate) skin_all_when_cheaper: bool,
+}
+
+/// A rigid body's static tree as a [`Hierarchy`] through a shared borrow
+/// (so the guard can read the body while traversal runs), telling `log` of
+/// every sphere-sphere test its nodes take part in.
+struct LoggedTree<'a, L> {
+    body: &'a EnvironmentTree,
+    log: &'a mut L,
+}
+
+impl<L: VisitLog> Hierarchy for LoggedTree<'_, L> {
+    #[inline]
+    fn tree(&self) -> &SphereTree {
+        &self.body.tree
+    }
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> crate::geometry::Sphere {
+        self.body.tree.nodes()[id.index()].sphere
+    }
+    #[inline]
+    fn prefetch(&self, id: NodeId) {
+        self.body.prefetch(id);
+    }
+    #[inline]
+    fn tested(&mut self, id: NodeId) {
+        self.log.tested(id);
+    }
+}
+
+impl<F: Frame, L: VisitLog> RigidPass<'_, F, L> {
+    /// The method's traversal (paper §3, with our pruned variants' guard):
+    /// grouped leaves and the plane and edge-plane guard for the methods
+    /// that test each pair once, the plane guard for the other pruned
+    /// methods, plain traversal for the paper's.
+    fn traverse_timed<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed {
+        let mut a = InFrame {
+            inner: self.character.hierarchy::<TIMED>(),
+            to: self.to_body,
+        };
+        let body = self.body;
+        let mut b = LoggedTree {
+            body,
+            log: &mut *self.log,
+        };
+        let mut plane_tests = 0u64;
+        let push = |p| leaf_pairs.push(p);
+        let stats = if self.method.tests_each_pair_once() {
+            let guard = body.plane_prism_guard(&mut plane_tests);
+            traverse_grouped(
+                &mut a,
+                &mut b,
+                ws,
+                &mut self.marks.groups,
+                |j| body.leaf_group(j),
+                guard,
+                push,
+            )
+        } else if self.method.prunes_at_plane() {
+            let guard = body.plane_guard(&mut plane_tests);
+            traverse_guarded(&mut a, &mut b, ws, guard, push)
+        } else {
+            traverse(&mut a, &mut b, ws, push)
+        };
+        Traversed {
+            stats,
+            guard_sphere_tests: 0,
+            plane_tests,
+            refit_ticks: a.refit_ticks(),
+        }
+    }
+
+    /// While skinning for leaf pair `k`: starts loading the character
+    /// triangle of pair `k + 2·AHEAD` and the vertices of pair `k + AHEAD`'s
+    /// (whose triangle has arrived by then); see [`crate::prefetch`].
+    #[inline(always)]
+    fn prefetch_skinning(&self, leaf_pairs: &[LeafPair], k: usize) {
+        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
+            self.character.prefetch_indices(q.primitive_a);
+        }
+        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
+            self.character.prefetch_triangle(q.primitive_a);
+        }
+    }
+
+    /// While testing leaf pair `k`: starts loading the repeat mark and the
+    /// body's triangle of pair `k + 2·AHEAD`, and that triangle's corners
+    /// for pair `k + AHEAD`.
+    #[inline(always)]
+    fn prefetch_narrow(&self, leaf_pairs: &[LeafPair], k: usize) {
+        let mesh = self.mesh;
+        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
+            self.marks.repeats.prefetch(q.primitive_a);
+            prefetch_at(mesh.indices(), q.primitive_b as usize);
+        }
+        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
+            for v in mesh.indices()[q.primitive_b as usize] {
+                prefetch_at(mesh.positions(), v as usize);
+            }
+        }
+    }
+
+    /// Prefetching ahead pays where leaf pairs are few and each reads new
+    /// memory: the methods that test each pair once. The others meet the
+    /// same triangles over and over (thousands of pairs), which stay
+    /// cached, and the hints would only cost (docs/performance.md, "Cold
+    /// caches").
+    fn prefetches(&self) -> bool {
+        self.method.tests_each_pair_once()
+    }
+}
+
+impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
+    type Hit = (u32, u32);
+
+    fn work(&self) -> (u64, u64) {
+        self.character.work()
+    }
+
+    fn timed(&self) -> bool {
+        self.timed
+    }
+
+    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed {
+        if self.timed {
+            self.traverse_timed::<true>(ws, leaf_pairs)
+        } else {
+            self.traverse_timed::<false>(ws, leaf_pairs)
+        }
+    }
+
+    /// Skins the corners of every character triangle to be tested against
+    /// a triangle, or every vertex when stamp checks would cost more (three
+    /// per triangle test, about a quarter of skinning a vertex): when every
+    /// leaf pair is a triangle test and there are more than 4/3 as many as
+    /// vertices (the original method: 531,732 tests a frame).
+    fn prepare(&mut self, leaf_pairs: &[LeafPair]) {
+        let all_tri_tri = self.method.big_leaf_test() == LeafTest::TriTri;
+        let vertices = self.character.character.mesh.positions().len();
+        if self.skin_all_when_cheaper && all_tri_tri && 3 * leaf_pairs.len() > 4 * vertices {
+            let c = &mut self.character;
+            c.skin.skin_all(c.pose, c.character, c.model);
+            return;
+        }
+        let ahead = self.prefetches();
+        for (k, p) in leaf_pairs.iter().enumerate() {
+            if ahead {
+                self.prefetch_skinning(leaf_pairs, k);
+            }
+            if !self.body.answers_by_plane(self.method, p.leaf_b) {
+                self.character.ensure_triangle(p.primitive_a);
+            }
+        }
+    }
+
+    fn begin_narrow(&mut self) {
+        if self.method.tests_each_pair_once() {
+            self.marks.repeats.begin_pass();
+        }
+    }
+
+    #[inline]
+    fn test(
+        &mut self,
+        leaf_pairs: &[LeafPair],
+        k: usize,
+        prepared: &mut [PreparedTriangles; 2],
+        c: &mut FrameCounters,
+    ) -> Option<(u32, u32)> {
+        if self.prefetches() {
+            self.prefetch_narrow(leaf_pairs, k);
+        }
+        let p = leaf_pairs[k];
+        let (body, method) = (self.body, self.method);
+        if method.tests_each_pair_once()
+            && body.is_division_leaf(p.leaf_b)
+            && !first_time(&mut self.marks.repeats, &p)
+        {
+            return None;
+        }
+        let hit = if body.answers_by_plane(method, p.leaf_b) {
+            if method.prunes_at_plane() {
+                // Already tested on the way down.
+                true
+            } else {
+                c.plane_sphere += 1;
+                let s = self
+                    .to_body
+                    .sphere(&self.character.refit.spheres[p.leaf_a.index()]);
+                body.leaf_meets_plane(p.leaf_b, &s) == Some(true)
+            }
+        } else {
+            c.tri_tri += 1;
+            let [pc, pb] = prepared;
+            let ct = pc.get(p.primitive_a, || {
+                self.to_body
+                    .triangle(self.character.triangle(p.primitive_a))
+            });
+            let bt = pb.get(p.primitive_b, || {
+                self.mesh.triangle(TriangleId(p.primitive_b))
+            });
+            prepared_intersect(ct, bt)
+        };
+        hit.then_some((p.primitive_a, p.primitive_b))
+    }
+
+    /// A big triangle's leaves all name it: repeats removed.
+    fn finish(hits: &mut Vec<(u32, u32)>) {
+        hits.sort_unstable();
+        hits.dedup();
+    }
+}
+
+/// Whether `p`'s (character triangle, big triangle) pair is met for the
+/// first time in this pass.
+#[inline]
+fn first_time(repeats: &mut PassMarks, p: &LeafPair) -> bool {
+    repeats.first_time(p.primitive_a, p.primitive_b)
+}

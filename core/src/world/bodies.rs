@@ -1,0 +1,172 @@
+//! The bodies of a world and what each keeps between steps.
+//!
+//! A body is a hierarchy, a triangle source and a pose. A rigid body (a room
+//! or a moving object) has its hierarchy built once in its own frame over its
+//! triangles; a room's pose is the identity. A character instance has its
+//! tree built once (bind space), its pose set every step, and its refit
+//! spheres and skinned vertices of the step.
+
+use std::sync::Arc;
+
+use nalgebra::{Isometry3, Matrix4};
+
+use crate::character::{OnDemandSkin, SkinPose};
+use crate::geometry::Sphere;
+use crate::mesh::TriMesh;
+use crate::pipeline::EnvironmentTree;
+use crate::pipeline::FrameCounters;
+use crate::pipeline::continuous_narrow::{CcdCounters, TimedPair};
+use crate::pipeline::pass::{PassMarksOf, PassScratch};
+use crate::pipeline::visit_log::TestedNodes;
+use crate::pipeline::{Method, SweepState};
+use crate::sphere_tree::character::CharacterTree;
+use crate::sphere_tree::refit::RefitState;
+
+use super::character_model::CharacterModel;
+use super::contacts::{ObjectPair, Timed};
+use super::handles::CharacterHandle;
+
+/// A room or a moving object: its triangles and their hierarchy, in its
+/// own frame, and its pose (object frame → world).
+pub(crate) struct RigidBody {
+    pub(crate) mesh: Arc<TriMesh>,
+    pub(crate) tree: EnvironmentTree,
+    pub(crate) pose: Isometry3<f32>,
+}
+
+/// Joint matrices as skinning reads them: one skin matrix per joint (world ·
+/// inverse bind, placed) and the placed skeleton base.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct JointMatrices {
+    pub(crate) skin: Vec<Matrix4<f32>>,
+    pub(crate) base: Matrix4<f32>,
+}
+
+impl JointMatrices {
+    pub(crate) fn as_pose(&self) -> SkinPose<'_> {
+        SkinPose {
+            skin: &self.skin,
+            base: &self.base,
+        }
+    }
+}
+
+/// What a character's own passes (against the rooms and objects) found in
+/// a step.
+#[derive(Default)]
+pub(crate) struct OwnPasses {
+    /// Its root sphere this step (`None`: an empty tree).
+    pub(crate) root: Option<Sphere>,
+    /// Against the rooms, the frame start's refits included.
+    pub(crate) rooms: FrameCounters,
+    /// Against the objects, root tests of the broad phase included.
+    pub(crate) objects: FrameCounters,
+    pub(crate) broad_phase_tests: u64,
+    pub(crate) body_pairs: u64,
+    pub(crate) ccd: CcdCounters,
+}
+
+/// One character pass's working memory and hits, kept between steps.
+pub(crate) struct PassSlot<H> {
+    pub(crate) scratch: PassScratch,
+    pub(crate) hits: Vec<H>,
+}
+
+impl<H> Default for PassSlot<H> {
+    fn default() -> Self {
+        Self {
+            scratch: PassScratch::default(),
+            hits: Vec::new(),
+        }
+    }
+}
+
+/// A character of a world: what it is made of, its tree for the world's
+/// method, its pose and its state this step.
+pub(crate) struct CharacterBody {
+    /// Its handle in its world.
+    pub(crate) handle: CharacterHandle,
+    pub(crate) model: Arc<CharacterModel>,
+    pub(crate) tree: Arc<CharacterTree>,
+    pub(crate) pose: JointMatrices,
+    /// A pose being checked before it replaces [`Self::pose`].
+    pub(crate) next_pose: JointMatrices,
+    /// Each joint's world matrix (for poses given as local transforms).
+    pub(crate) joint_world: Vec<Matrix4<f32>>,
+    pub(crate) refit: RefitState,
+    pub(crate) skin: OnDemandSkin,
+    pub(crate) marks: PassMarksOf,
+    /// One slot per room: its leaf pairs and hits this step.
+    pub(crate) rooms: Vec<PassSlot<(u32, u32)>>,
+    /// Which nodes of each room the step's traversal tested, when asked.
+    pub(crate) visits: Option<Vec<TestedNodes>>,
+    /// Shared by the object passes.
+    pub(crate) objects: PassSlot<(u32, u32)>,
+    /// This step's object contacts.
+    pub(crate) object_pairs: Vec<ObjectPair>,
+    pub(crate) own: OwnPasses,
+    /// Continuous detection's state, when on.
+    pub(crate) sweep: Option<Box<CharacterSweep>>,
+}
+
+/// A character's continuous state: its refit and skinning at both ends of
+/// the step, the pose at its start, and its passes' memory.
+pub(crate) struct CharacterSweep {
+    pub(crate) state: SweepState,
+    /// The pose at the start of the next sweep (the end of the last).
+    pub(crate) start: JointMatrices,
+    /// Whether `state`'s end is `start` (the last sweep ended there).
+    pub(crate) continues: bool,
+    pub(crate) rooms: Vec<PassSlot<TimedPair>>,
+    pub(crate) objects: PassSlot<TimedPair>,
+    pub(crate) object_pairs: Vec<Timed<ObjectPair>>,
+}
+
+impl CharacterBody {
+    pub(crate) fn new(
+        handle: CharacterHandle,
+        model: Arc<CharacterModel>,
+        method: Method,
+        tree: Arc<CharacterTree>,
+    ) -> Self {
+        let c = model.character();
+        let joints = c.skeleton.len();
+        let mut refit = RefitState::new(&tree, joints);
+        refit.set_refit_ahead(method.refits_ahead());
+        let mut world = vec![Matrix4::identity(); joints];
+        let mut skin = vec![Matrix4::identity(); joints];
+        c.skeleton
+            .world_matrices(c.skeleton.rest_pose_ref(), &mut world);
+        c.skeleton.skin_matrices(&world, &mut skin);
+        let pose = JointMatrices {
+            skin,
+            base: *c.skeleton.base(),
+        };
+        Self {
+            handle,
+            marks: PassMarksOf::new(c.mesh.triangle_count(), tree.tree.len()),
+            tree,
+            next_pose: pose.clone(),
+            pose,
+            joint_world: world,
+            refit,
+            skin: OnDemandSkin::new(c.mesh.vertex_count()),
+            rooms: Vec::new(),
+            visits: None,
+            objects: PassSlot::default(),
+            object_pairs: Vec::new(),
+            own: OwnPasses::default(),
+            sweep: None,
+            model,
+        }
+    }
+
+    /// Starts a step: every sphere and skinned vertex of the last one is
+    /// stale from here on (refit and skinning then happen on demand in the
+    /// passes of this step, each at most once).
+    pub(crate) fn begin_step(&mut self) {
+        self.refit
+            .begin_frame_with_base(&self.pose.skin, &self.pose.base);
+        self.skin.begin_frame();
+    }
+}

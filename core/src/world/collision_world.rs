@@ -1,0 +1,518 @@
+//! [`CollisionWorld`]: the bodies an engine hands in, by handle, and their
+//! poses; one method's hierarchies built once per body.
+
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use nalgebra::{Isometry3, Matrix4};
+
+use crate::character::OnDemandSkin;
+use crate::character::{PoseBuffers, SkinPose, Trs};
+use crate::geometry::Sphere;
+use crate::geometry::ccd_root_finder::CcdParams;
+use crate::io::limits::MAX_COORDINATE;
+use crate::mesh::TriMesh;
+use crate::pipeline::visit_log::TestedNodes;
+use crate::pipeline::{DEFAULT_THRESHOLD, EnvironmentTree, Method, SweepState};
+use crate::sphere_tree::BuildParams;
+use crate::sphere_tree::character::CharacterTree;
+use crate::sphere_tree::refit::RefitState;
+use crate::sphere_tree::traverse::LeafPair;
+
+use super::bodies::{CharacterBody, CharacterSweep, PassSlot, RigidBody};
+use super::character_model::CharacterModel;
+use super::contacts::StepContacts;
+use super::error::WorldError;
+use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
+use super::pass_graph::PassGraph;
+use super::sweep::ContinuousState;
+
+/// How a world builds its hierarchies and measures its steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorldSettings {
+    /// Big-triangle threshold: a room or object triangle whose longest edge
+    /// exceeds it gets the method's division (§4–5), in model units.
+    pub threshold: f32,
+    /// How rigid bodies' trees are built (the paper's collapse of similar
+    /// spheres, §3); characters' trees are built from it as the method says
+    /// ([`Method::character_build`]).
+    pub build: BuildParams,
+    /// Whether each pass splits its refit time from its traversal time (two
+    /// time-stamp reads per refit).
+    pub time_refit: bool,
+}
+
+impl Default for WorldSettings {
+    fn default() -> Self {
+        Self {
+            threshold: DEFAULT_THRESHOLD,
+            build: BuildParams::default(),
+            time_refit: true,
+        }
+    }
+}
+
+/// The state of one character pair's pass, kept between steps.
+#[derive(Default)]
+pub(crate) struct PairState {
+    pub(crate) a: u32,
+    pub(crate) b: u32,
+    pub(crate) counters: crate::pipeline::FrameCounters,
+    pub(crate) slot: PassSlot<(u32, u32)>,
+}
+
+/// Collision detection of skinned characters against static rooms, moving
+/// rigid objects and each other, with one method (paper §3–6; our pruned
+/// methods beside the paper's).
+///
+/// Bodies come from the caller's data and are named by handle; each step the
+/// caller poses them (joint transforms for characters, rigid transforms for
+/// objects) and reads the contacts by handle and pair kind, with the
+/// counters of the paper's operation model. The step runs on the caller's
+/// rayon pool, or rayon's global one outside any pool; the contacts do not
+/// depend on the number of threads. After the first steps have sized its
+/// buffers, a step allocates nothing.
+///
+/// ```
+/// use std::sync::Arc;
+/// use cornertree::world::CollisionWorld;
+/// use cornertree::pipeline::Method;
+/// use cornertree::mesh::TriMesh;
+/// use cornertree::geometry::Point;
+///
+/// // A floor of two triangles, 4 m by 4 m.
+/// let floor = TriMesh::new(
+///     vec![
+///         Point::new(-2.0, 0.0, -2.0),
+///         Point::new(2.0, 0.0, -2.0),
+///         Point::new(2.0, 0.0, 2.0),
+///         Point::new(-2.0, 0.0, 2.0),
+///     ],
+///     vec![[0, 2, 1], [0, 3, 2]],
+/// )
+/// .unwrap();
+/// let mut world = CollisionWorld::new(Method::UndividedPrunedTriTri);
+/// let room = world.add_room(Arc::new(floor)).unwrap();
+/// assert_eq!(room.index(), 0);
+/// // No character yet: nothing collides.
+/// assert!(world.step().is_empty());
+/// ```
+pub struct CollisionWorld {
+    pub(crate) method: Method,
+    pub(crate) settings: WorldSettings,
+    pub(crate) rooms: Vec<RigidBody>,
+    pub(crate) objects: Vec<RigidBody>,
+    /// Each object's root sphere in the world this step.
+    pub(crate) object_roots: Vec<Option<Sphere>>,
+    pub(crate) characters: Vec<Mutex<CharacterBody>>,
+    /// Character pairs whose roots met this step, `(i, j)` with `i < j`.
+    pub(crate) candidates: Vec<(u32, u32)>,
+    pub(crate) pairs: Vec<Mutex<PairState>>,
+    /// The step's passes and the order they may run in.
+    pub(crate) graph: PassGraph,
+    pub(crate) contacts: StepContacts,
+    pub(crate) continuous: Option<Box<ContinuousState>>,
+    /// Whether passes against rooms log the room nodes they test.
+    pub(crate) visit_logs: bool,
+}
+
+/// A character of a world as observers read it after a step (its tree,
+/// this step's refit spheres and skinned vertices, the leaf pairs of its
+/// room passes); holds the character while alive.
+pub struct CharacterView<'a>(MutexGuard<'a, CharacterBody>);
+
+impl CharacterView<'_> {
+    /// What the character is made of.
+    pub fn model(&self) -> &Arc<CharacterModel> {
+        &self.0.model
+    }
+
+    /// Its sphere tree for the world's method.
+    pub fn tree(&self) -> &CharacterTree {
+        &self.0.tree
+    }
+
+    /// This step's refit spheres (valid where refit).
+    pub fn refit_state(&self) -> &RefitState {
+        &self.0.refit
+    }
+
+    /// This step's skinned vertices (those the passes read).
+    pub fn skinned(&self) -> &OnDemandSkin {
+        &self.0.skin
+    }
+
+    /// The pose of the last step, as skinning reads it.
+    pub fn pose(&self) -> SkinPose<'_> {
+        self.0.pose.as_pose()
+    }
+
+    /// The leaf pairs the last step's pass against `room` handed to its
+    /// narrow phase (character leaf first).
+    pub fn room_leaf_pairs(&self, room: RoomHandle) -> &[LeafPair] {
+        self.0
+            .rooms
+            .get(room.index())
+            .map_or(&[], |s| s.scratch.leaf_pairs())
+    }
+
+    /// The room nodes the last step's pass against `room` tested, if
+    /// [`CollisionWorld::set_visit_log`] is on.
+    pub fn visit_log(&self, room: RoomHandle) -> Option<&TestedNodes> {
+        self.0.visits.as_ref()?.get(room.index())
+    }
+
+    /// The character's continuous state (refit spheres at both ends of the
+    /// last sweep), when continuous detection is on.
+    pub fn sweep_state(&self) -> Option<&SweepState> {
+        self.0.sweep.as_ref().map(|s| &s.state)
+    }
+}
+
+impl CollisionWorld {
+    /// An empty world detecting with `method` under the default settings.
+    pub fn new(method: Method) -> Self {
+        Self::with_settings(method, WorldSettings::default())
+    }
+
+    /// An empty world detecting with `method` under `settings`.
+    pub fn with_settings(method: Method, settings: WorldSettings) -> Self {
+        Self {
+            method,
+            settings,
+            rooms: Vec::new(),
+            objects: Vec::new(),
+            object_roots: Vec::new(),
+            characters: Vec::new(),
+            candidates: Vec::new(),
+            pairs: Vec::new(),
+            graph: PassGraph::new(0),
+            contacts: StepContacts::default(),
+            continuous: None,
+            visit_logs: false,
+        }
+    }
+
+    /// The method every pass uses.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// The settings the world was built with.
+    pub fn settings(&self) -> &WorldSettings {
+        &self.settings
+    }
+
+    /// Adds a static room made of `mesh`'s triangles (world coordinates);
+    /// its hierarchy is built now, big triangles divided as the method says.
+    pub fn add_room(&mut self, mesh: Arc<TriMesh>) -> Result<RoomHandle, WorldError> {
+        check_mesh(&mesh, "room")?;
+        let tree = EnvironmentTree::build(
+            &mesh,
+            self.method,
+            self.settings.threshold,
+            self.settings.build,
+        );
+        self.rooms.push(RigidBody {
+            mesh,
+            tree,
+            pose: Isometry3::identity(),
+        });
+        let nodes = self.rooms.last().map_or(0, |r| r.tree.tree.len());
+        for c in &mut self.characters {
+            let c = c.get_mut().expect("no pass panicked");
+            c.rooms.push(PassSlot::default());
+            if let Some(v) = c.visits.as_mut() {
+                v.push(TestedNodes::new(nodes));
+            }
+        }
+        if let Some(cs) = self.continuous.as_mut() {
+            let room = self.rooms.last().expect("just added");
+            cs.add_room(room, &mut self.characters);
+        }
+        Ok(RoomHandle(self.rooms.len() as u32 - 1))
+    }
+
+    /// Adds a rigid object made of `mesh`'s triangles in its own frame, at
+    /// `pose` (object frame → world); its hierarchy is built now, once, in
+    /// its own frame.
+    pub fn add_object(
+        &mut self,
+        mesh: Arc<TriMesh>,
+        pose: Isometry3<f32>,
+    ) -> Result<ObjectHandle, WorldError> {
+        check_mesh(&mesh, "object")?;
+        let h = ObjectHandle(self.objects.len() as u32);
+        check_object_pose(h, &pose)?;
+        let tree = EnvironmentTree::build(
+            &mesh,
+            self.method,
+            self.settings.threshold,
+            self.settings.build,
+        );
+        self.objects.push(RigidBody { mesh, tree, pose });
+        self.object_roots.push(None);
+        if let Some(cs) = self.continuous.as_mut() {
+            cs.add_object(&pose);
+        }
+        Ok(h)
+    }
+
+    /// Adds an instance of the character `model` at its rest pose; its tree
+    /// for the world's method is built now.
+    pub fn add_character(
+        &mut self,
+        model: Arc<CharacterModel>,
+    ) -> Result<CharacterHandle, WorldError> {
+        let m = self.method;
+        let tree = CharacterTree::build_with_rule(
+            model.character(),
+            model.kept(),
+            model.skinning(),
+            m.character_build(self.settings.build),
+            m.refit_rule(),
+        );
+        let handle = CharacterHandle(self.characters.len() as u32);
+        let mut body = CharacterBody::new(handle, model, m, Arc::new(tree));
+        body.rooms = self.rooms.iter().map(|_| PassSlot::default()).collect();
+        if self.visit_logs {
+            body.visits = Some(self.room_logs());
+        }
+        if let Some(cs) = self.continuous.as_ref() {
+            body.sweep = Some(Box::new(cs.character_sweep(&body, self.rooms.len())));
+        }
+        self.characters.push(Mutex::new(body));
+        self.graph = PassGraph::new(self.characters.len());
+        Ok(handle)
+    }
+
+    /// Rooms, objects and characters added.
+    pub fn counts(&self) -> (usize, usize, usize) {
+        (self.rooms.len(), self.objects.len(), self.characters.len())
+    }
+
+    fn character_mut(&mut self, h: CharacterHandle) -> Result<&mut CharacterBody, WorldError> {
+        self.characters
+            .get_mut(h.index())
+            .map(|c| c.get_mut().expect("no pass panicked"))
+            .ok_or(WorldError::UnknownCharacter(h))
+    }
+
+    /// Character `h` as observers read it.
+    pub fn character(&self, h: CharacterHandle) -> Result<CharacterView<'_>, WorldError> {
+        self.characters
+            .get(h.index())
+            .map(|c| CharacterView(c.lock().expect("no pass panicked")))
+            .ok_or(WorldError::UnknownCharacter(h))
+    }
+
+    /// Room `h`'s hierarchy and mesh.
+    pub fn room(&self, h: RoomHandle) -> Option<(&EnvironmentTree, &TriMesh)> {
+        self.rooms.get(h.index()).map(|r| (&r.tree, &*r.mesh))
+    }
+
+    /// Object `h`'s hierarchy and mesh (its frame) and its pose.
+    pub fn object(&self, h: ObjectHandle) -> Option<(&EnvironmentTree, &TriMesh, Isometry3<f32>)> {
+        self.objects
+            .get(h.index())
+            .map(|o| (&o.tree, &*o.mesh, o.pose))
+    }
+
+    /// Sets character `h`'s pose from matrices posed elsewhere (a clip
+    /// sampled into `pose` with [`PoseBuffers::pose`] and placed; one pose
+    /// handed to several worlds). Only its skin matrices and base are read.
+    pub fn set_pose(&mut self, h: CharacterHandle, pose: &PoseBuffers) -> Result<(), WorldError> {
+        let c = self.character_mut(h)?;
+        let joints = c.pose.skin.len();
+        if pose.skin.len() != joints {
+            return Err(WorldError::JointCount {
+                character: h,
+                expected: joints,
+                got: pose.skin.len(),
+            });
+        }
+        check_pose(h, pose.skin_pose(), c.model.bind_reach())?;
+        c.pose.skin.copy_from_slice(&pose.skin);
+        c.pose.base = pose.base;
+        Ok(())
+    }
+
+    /// Sets character `h`'s pose from each joint's transform relative to its
+    /// parent (`local`, the skeleton's order) and a placement of the whole
+    /// character in the world. Refused, and the last pose kept, when a value
+    /// is not finite or the pose takes a vertex out of the coordinate range.
+    pub fn set_joint_transforms(
+        &mut self,
+        h: CharacterHandle,
+        local: &[Trs],
+        placement: &Isometry3<f32>,
+    ) -> Result<(), WorldError> {
+        let c = self.character_mut(h)?;
+        let skeleton = &c.model.character().skeleton;
+        if local.len() != skeleton.len() {
+            return Err(WorldError::JointCount {
+                character: h,
+                expected: skeleton.len(),
+                got: local.len(),
+            });
+        }
+        let p: Matrix4<f32> = placement.to_homogeneous();
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err(WorldError::NonFinitePlacement { character: h });
+        }
+        skeleton.world_matrices(local, &mut c.joint_world);
+        skeleton.skin_matrices(&c.joint_world, &mut c.next_pose.skin);
+        for m in c.next_pose.skin.iter_mut() {
+            *m = p * *m;
+        }
+        c.next_pose.base = p * *skeleton.base();
+        check_pose(h, c.next_pose.as_pose(), c.model.bind_reach())?;
+        std::mem::swap(&mut c.pose, &mut c.next_pose);
+        Ok(())
+    }
+
+    /// Moves object `h` to `pose` (object frame → world).
+    pub fn set_object_pose(
+        &mut self,
+        h: ObjectHandle,
+        pose: Isometry3<f32>,
+    ) -> Result<(), WorldError> {
+        check_object_pose(h, &pose)?;
+        let o = self
+            .objects
+            .get_mut(h.index())
+            .ok_or(WorldError::UnknownObject(h))?;
+        o.pose = pose;
+        Ok(())
+    }
+
+    /// The contacts and counters of the last step.
+    pub fn contacts(&self) -> &StepContacts {
+        &self.contacts
+    }
+
+    /// Whether each pass splits its refit time from its traversal time (on
+    /// by default; off, refit time is in traversal time and each refit
+    /// costs two time-stamp reads less).
+    pub fn set_refit_timing(&mut self, on: bool) {
+        self.settings.time_refit = on;
+    }
+
+    /// Whether the passes against rooms log the room nodes they test (off by
+    /// default; a recorder turns it on). The counters are the same either
+    /// way.
+    pub fn set_visit_log(&mut self, on: bool) {
+        self.visit_logs = on;
+        let logs = on.then(|| self.room_logs());
+        for c in &mut self.characters {
+            c.get_mut().expect("no pass panicked").visits = logs.clone();
+        }
+    }
+
+    fn room_logs(&self) -> Vec<TestedNodes> {
+        self.rooms
+            .iter()
+            .map(|r| TestedNodes::new(r.tree.tree.len()))
+            .collect()
+    }
+
+    /// Bytes of every hierarchy: each character's tree, each room's and each
+    /// object's (the "Data" row of the paper's Tables 2–3).
+    pub fn hierarchy_bytes(&self) -> usize {
+        let rigid: usize = self
+            .rooms
+            .iter()
+            .chain(&self.objects)
+            .map(|b| b.tree.bytes())
+            .sum();
+        let characters: usize = self
+            .characters
+            .iter()
+            .map(|c| c.lock().expect("no pass panicked").tree.tree.bytes())
+            .sum();
+        rigid + characters
+    }
+
+    /// Turns continuous detection on ([`Self::sweep`]): per character, refit
+    /// states and skinned vertices at both ends of a step.
+    pub fn enable_continuous(&mut self, params: CcdParams) {
+        let mut cs = ContinuousState::new(params, &self.rooms, &self.objects);
+        for c in &mut self.characters {
+            let c = c.get_mut().expect("no pass panicked");
+            c.sweep = Some(Box::new(cs.character_sweep(c, self.rooms.len())));
+        }
+        cs.contacts.clear();
+        self.continuous = Some(Box::new(cs));
+    }
+}
+
+impl ContinuousState {
+    /// A character's continuous state.
+    pub(crate) fn character_sweep(&self, c: &CharacterBody, rooms: usize) -> CharacterSweep {
+        let ch = c.model.character();
+        CharacterSweep {
+            state: SweepState::new(&c.tree, ch.skeleton.len(), ch.mesh.vertex_count()),
+            start: c.pose.clone(),
+            continues: false,
+            rooms: (0..rooms).map(|_| PassSlot::default()).collect(),
+            objects: PassSlot::default(),
+            object_pairs: Vec::new(),
+        }
+    }
+}
+
+/// Every position of `mesh` inside the coordinate range.
+fn check_mesh(mesh: &TriMesh, what: &'static str) -> Result<(), WorldError> {
+    match mesh
+        .positions()
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !(p.coords.norm() <= MAX_COORDINATE))
+    {
+        Some((vertex, p)) => Err(WorldError::MeshOutOfRange {
+            what,
+            vertex,
+            distance: p.coords.norm(),
+            limit: MAX_COORDINATE,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// An object pose is finite and inside the coordinate range.
+fn check_object_pose(h: ObjectHandle, pose: &Isometry3<f32>) -> Result<(), WorldError> {
+    let m = pose.to_homogeneous();
+    if m.iter().all(|x| x.is_finite()) && pose.translation.vector.norm() <= MAX_COORDINATE {
+        Ok(())
+    } else {
+        Err(WorldError::BadObjectPose {
+            object: h,
+            limit: MAX_COORDINATE,
+        })
+    }
+}
+
+/// A pose is finite and keeps every vertex inside the coordinate range.
+fn check_pose(h: CharacterHandle, pose: SkinPose<'_>, bind_reach: f32) -> Result<(), WorldError> {
+    if let Some(joint) = pose
+        .skin
+        .iter()
+        .position(|m| !m.iter().all(|x| x.is_finite()))
+    {
+        return Err(WorldError::NonFiniteJoint {
+            character: h,
+            joint,
+        });
+    }
+    if !pose.base.iter().all(|x| x.is_finite()) {
+        return Err(WorldError::NonFinitePlacement { character: h });
+    }
+    let reach = pose.reach(bind_reach);
+    if !(reach <= MAX_COORDINATE) {
+        return Err(WorldError::PoseOutOfRange {
+            character: h,
+            reach,
+            limit: MAX_COORDINATE,
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,69 @@
+//! What is wrong with a caller's data: one error type for every call of a
+//! [`CollisionWorld`](super::CollisionWorld), each naming the body, the
+//! joint, the index or the value at fault. Nothing a caller hands in makes
+//! a world panic.
+
+use crate::character::skinning::SkinError;
+use crate::mesh::MeshError;
+
+use super::handles::{CharacterHandle, ObjectHandle};
+
+/// Why a world refused a call.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum WorldError {
+    /// A character handle this world did not give.
+    #[error("{0}: no such character in this world")]
+    UnknownCharacter(CharacterHandle),
+    /// An object handle this world did not give.
+    #[error("{0}: no such object in this world")]
+    UnknownObject(ObjectHandle),
+    /// A pose for another number of joints than the character's skeleton.
+    #[error("{character}: the pose has {got} joints, the skeleton {expected}")]
+    JointCount {
+        character: CharacterHandle,
+        expected: usize,
+        got: usize,
+    },
+    /// A joint transform (or the placement) with a value that is not finite.
+    #[error("{character}: joint {joint}'s transform is not finite")]
+    NonFiniteJoint {
+        character: CharacterHandle,
+        joint: usize,
+    },
+    /// The placement or the skeleton base frame is not finite.
+    #[error("{character}: the placement is not finite")]
+    NonFinitePlacement { character: CharacterHandle },
+    /// A pose that takes a vertex beyond the coordinates the kernels accept
+    /// ([`MAX_COORDINATE`](crate::io::limits::MAX_COORDINATE)).
+    #[error(
+        "{character}: the pose takes vertices up to {reach} from the origin, beyond the {limit} accepted for coordinates"
+    )]
+    PoseOutOfRange {
+        character: CharacterHandle,
+        reach: f32,
+        limit: f32,
+    },
+    /// An object pose that is not finite or beyond the coordinate range.
+    #[error("{object}: its pose is not finite or beyond {limit} from the origin")]
+    BadObjectPose { object: ObjectHandle, limit: f32 },
+    /// A mesh with a position beyond the coordinate range.
+    #[error("{what}: vertex {vertex} lies {distance} from the origin, beyond the {limit} accepted")]
+    MeshOutOfRange {
+        what: &'static str,
+        vertex: usize,
+        distance: f32,
+        limit: f32,
+    },
+    /// Skinning data that does not fit the mesh or the skeleton.
+    #[error("character model: {0}")]
+    Skin(#[from] SkinError),
+    /// An unusable mesh.
+    #[error("mesh: {0}")]
+    Mesh(#[from] MeshError),
+    /// The kept-triangle set of a character model for another mesh.
+    #[error("character model: {got} triangles kept or dropped, the mesh has {expected}")]
+    KeptCount { expected: usize, got: usize },
+    /// Continuous detection asked of a world that has not enabled it.
+    #[error("continuous detection is off: call enable_continuous first")]
+    ContinuousOff,
+}

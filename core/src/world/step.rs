@@ -1,0 +1,355 @@
+//! One discrete step of a world ([`CollisionWorld::step`]).
+//!
+//! 1. Every character starts its step (spheres and skinned vertices stale)
+//!    and refits its root sphere, characters side by side.
+//! 2. The broad phase between characters' root spheres lists the character
+//!    pairs to traverse.
+//! 3. Every pass runs on the pool's threads ([`PassGraph`]): each
+//!    character's passes against the rooms and, after the broad phase
+//!    against every object's root sphere at its pose, against each object
+//!    it meets; then its passes against the characters it meets, in any
+//!    order, one at a time (each refits and skins both characters on
+//!    demand). A pass starts as soon as its characters are free: no barrier
+//!    between the rooms' passes and the character pairs.
+//! 4. The contacts, in a fixed order.
+//!
+//! Which thread runs what never changes a counter or a pair: a pass's tests
+//! do not depend on which spheres were refit before it, and each sphere and
+//! vertex is refit or skinned at most once a step whichever pass asks
+//! first. A character's own passes run before its pairs, so the refits and
+//! skinned vertices counted for the rooms and objects are the same on any
+//! thread, and those counted for the character pairs add up to the rest.
+//!
+//! [`PassGraph`]: super::pass_graph::PassGraph
+
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::geometry::Sphere;
+use crate::pipeline::FrameCounters;
+use crate::pipeline::Identity;
+use crate::pipeline::character_side::CharacterSide;
+use crate::pipeline::pair_pass::PairPass;
+use crate::pipeline::pass::run;
+use crate::pipeline::rigid_pass::RigidPass;
+use crate::pipeline::visit_log::NoLog;
+use crate::sphere_tree::NodeId;
+
+use super::bodies::{CharacterBody, RigidBody};
+use super::collision_world::{CollisionWorld, PairState};
+use super::contacts::{CharacterPair, ObjectPair, PairKind, RoomPair, StepContacts};
+use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
+
+impl CollisionWorld {
+    /// Detects every contact at the current poses: each character against
+    /// the rooms, the objects its root sphere meets and the characters its
+    /// root sphere meets, on the current rayon pool.
+    pub fn step(&mut self) -> &StepContacts {
+        let t0 = Instant::now();
+        // Objects' root spheres in the world.
+        for (root, o) in self.object_roots.iter_mut().zip(&self.objects) {
+            *root = (!o.tree.tree.is_empty()).then(|| {
+                o.tree.tree.nodes()[NodeId::ROOT.index()]
+                    .sphere
+                    .in_frame(&o.pose)
+            });
+        }
+        // 1. Each character's step starts and its root sphere is refit (a
+        //    few dozen spheres; the room pass counts them, from the step's
+        //    start, and would refit them first anyway).
+        side_by_side(&mut self.characters, |c| {
+            let c = c.get_mut().expect("no pass panicked");
+            c.begin_step();
+            c.own.root = side(c).root_sphere();
+        });
+
+        // 2. The broad phase between characters' root spheres.
+        let char_tests = self.character_broad_phase();
+        while self.pairs.len() < self.candidates.len() {
+            self.pairs.push(Default::default());
+        }
+
+        // 3. Every pass.
+        self.graph.set_pairs(self.candidates.iter().copied());
+        let n = self.characters.len();
+        let CollisionWorld {
+            method,
+            settings,
+            rooms,
+            objects,
+            object_roots,
+            characters,
+            pairs,
+            graph,
+            ..
+        } = self;
+        let (method, timed) = (*method, settings.time_refit);
+        graph.run(|t, pair| match pair {
+            // A pass holds its characters alone: these locks are never
+            // contended.
+            None => {
+                let mut c = characters[t].lock().expect("no pass panicked");
+                own_passes(&mut c, method, timed, rooms, objects, object_roots);
+            }
+            Some((i, j)) => {
+                let mut s = pairs[t - n].lock().expect("no pass panicked");
+                let mut a = characters[i as usize].lock().expect("no pass panicked");
+                let mut b = characters[j as usize].lock().expect("no pass panicked");
+                let PairState {
+                    a: sa,
+                    b: sb,
+                    counters,
+                    slot,
+                } = &mut *s;
+                (*sa, *sb) = (i, j);
+                let mut pass = PairPass {
+                    a: side(&mut a),
+                    b: side(&mut b),
+                    timed,
+                };
+                *counters = run(&mut pass, &mut slot.scratch, &mut slot.hits);
+            }
+        });
+
+        // 4. The contacts, in a fixed order.
+        self.gather(char_tests);
+        self.contacts.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        &self.contacts
+    }
+
+    /// Tests every two characters' root spheres (`root` of each), listing
+    /// the pairs that meet in `candidates`; returns the tests made.
+    pub(crate) fn character_broad_phase(&mut self) -> u64 {
+        let roots: &mut Vec<(u32, u32)> = &mut self.candidates;
+        roots.clear();
+        let n = self.characters.len();
+        let mut tests = 0u64;
+        let root =
+            |c: &std::sync::Mutex<CharacterBody>| c.lock().expect("no pass panicked").own.root;
+        for i in 0..n {
+            let Some(ri) = root(&self.characters[i]) else {
+                continue;
+            };
+            for j in i + 1..n {
+                let Some(rj) = root(&self.characters[j]) else {
+                    continue;
+                };
+                tests += 1;
+                if ri.overlaps(&rj) {
+                    roots.push((i as u32, j as u32));
+                }
+            }
+        }
+        tests
+    }
+
+    fn gather(&mut self, char_tests: u64) {
+        let out = &mut self.contacts;
+        out.clear();
+        out.broad_phase_tests = char_tests;
+        out.body_pairs = self.candidates.len() as u64;
+        out.by_kind.characters.sphere_sphere += char_tests;
+        // Refits and skinned vertices: each character's own count for the
+        // step (every pass adds to it once).
+        let (mut refits, mut skinned) = (0, 0);
+        for (i, c) in self.characters.iter_mut().enumerate() {
+            let c = c.get_mut().expect("no pass panicked");
+            refits += c.refit.refits;
+            skinned += c.skin.skinned();
+            let own = &c.own;
+            out.by_kind.environment.add(&own.rooms);
+            out.by_kind.objects.add(&own.objects);
+            out.by_kind.objects.sphere_sphere += own.broad_phase_tests;
+            out.broad_phase_tests += own.broad_phase_tests;
+            out.body_pairs += own.body_pairs;
+            out.object_pairs.extend_from_slice(&c.object_pairs);
+            for (r, slot) in c.rooms.iter().enumerate() {
+                out.room_pairs
+                    .extend(slot.hits.iter().map(|&(t, rt)| RoomPair {
+                        character: CharacterHandle(i as u32),
+                        triangle: t,
+                        room: RoomHandle(r as u32),
+                        room_triangle: rt,
+                    }));
+            }
+        }
+        for s in &mut self.pairs[..self.candidates.len()] {
+            let s = s.get_mut().expect("no pass panicked");
+            out.by_kind.characters.add(&s.counters);
+            let (a, b) = (CharacterHandle(s.a), CharacterHandle(s.b));
+            out.character_pairs
+                .extend(s.slot.hits.iter().map(|&(ta, tb)| CharacterPair {
+                    a,
+                    triangle_a: ta,
+                    b,
+                    triangle_b: tb,
+                }));
+        }
+        out.room_pairs.sort_unstable();
+        out.object_pairs.sort_unstable();
+        out.character_pairs.sort_unstable();
+        for k in PairKind::ALL {
+            let c = *out.by_kind.get(k);
+            out.total.add(&c);
+        }
+        out.total.refits = refits;
+        out.total.skinned_vertices = skinned;
+    }
+}
+
+/// Character `c` as a pass sees it.
+pub(crate) fn side(c: &mut CharacterBody) -> CharacterSide<'_> {
+    CharacterSide {
+        character: c.model.character(),
+        tree: &c.tree,
+        model: c.model.skinning(),
+        pose: c.pose.as_pose(),
+        refit: &mut c.refit,
+        skin: &mut c.skin,
+    }
+}
+
+/// Character `i`'s own passes: against every room (its frame start's refits
+/// and refit ahead counted with them), then against every object whose root
+/// sphere its root sphere meets.
+fn own_passes(
+    c: &mut CharacterBody,
+    method: crate::pipeline::Method,
+    timed: bool,
+    rooms: &[RigidBody],
+    objects: &[RigidBody],
+    object_roots: &[Option<Sphere>],
+) {
+    // Last step's nodes first, when the method refits ahead (timed only
+    // then: two clock reads the other methods need not pay).
+    let ahead_ms = if c.refit.refits_ahead_on() {
+        let t0 = Instant::now();
+        side(c).refit_ahead();
+        t0.elapsed().as_secs_f64() * 1e3
+    } else {
+        0.0
+    };
+    let mut counters = FrameCounters {
+        refits: c.refit.refits,
+        skinned_vertices: c.skin.skinned(),
+        ..FrameCounters::default()
+    };
+    if timed {
+        counters.time.refit_ms = ahead_ms;
+    } else {
+        counters.time.traversal_ms = ahead_ms;
+    }
+    let CharacterBody {
+        handle,
+        model,
+        tree,
+        pose,
+        refit,
+        skin,
+        marks,
+        rooms: slots,
+        visits,
+        objects: object_slot,
+        object_pairs,
+        own,
+        ..
+    } = c;
+    let mut character = CharacterSide {
+        character: model.character(),
+        tree,
+        model: model.skinning(),
+        pose: pose.as_pose(),
+        refit,
+        skin,
+    };
+    for (r, (room, slot)) in rooms.iter().zip(slots.iter_mut()).enumerate() {
+        let c = match visits.as_mut() {
+            Some(logs) => {
+                let log = &mut logs[r];
+                log.begin_frame();
+                room_pass(character.reborrow(), marks, room, method, timed, log, slot)
+            }
+            None => room_pass(
+                character.reborrow(),
+                marks,
+                room,
+                method,
+                timed,
+                &mut NoLog,
+                slot,
+            ),
+        };
+        counters.add(&c);
+    }
+    own.rooms = counters;
+    own.objects = FrameCounters::default();
+    own.broad_phase_tests = 0;
+    own.body_pairs = 0;
+    object_pairs.clear();
+    let Some(root) = own.root else { return };
+    for (o, (body, oroot)) in objects.iter().zip(object_roots).enumerate() {
+        let Some(oroot) = oroot else { continue };
+        own.broad_phase_tests += 1;
+        if !root.overlaps(oroot) {
+            continue;
+        }
+        own.body_pairs += 1;
+        let mut pass = RigidPass {
+            character: character.reborrow(),
+            marks: &mut *marks,
+            body: &body.tree,
+            mesh: &body.mesh,
+            to_body: body.pose.inverse(),
+            method,
+            log: &mut NoLog,
+            timed,
+            skin_all_when_cheaper: false,
+        };
+        let c = run(&mut pass, &mut object_slot.scratch, &mut object_slot.hits);
+        own.objects.add(&c);
+        object_pairs.extend(object_slot.hits.iter().map(|&(t, ot)| ObjectPair {
+            character: *handle,
+            triangle: t,
+            object: ObjectHandle(o as u32),
+            object_triangle: ot,
+        }));
+    }
+}
+
+/// One room pass of a character.
+fn room_pass<L: crate::pipeline::visit_log::VisitLog>(
+    character: CharacterSide<'_>,
+    marks: &mut crate::pipeline::pass::PassMarksOf,
+    room: &RigidBody,
+    method: crate::pipeline::Method,
+    timed: bool,
+    log: &mut L,
+    slot: &mut super::bodies::PassSlot<(u32, u32)>,
+) -> FrameCounters {
+    let mut pass = RigidPass {
+        character,
+        marks,
+        body: &room.tree,
+        mesh: &room.mesh,
+        to_body: Identity,
+        method,
+        log,
+        timed,
+        skin_all_when_cheaper: true,
+    };
+    run(&mut pass, &mut slot.scratch, &mut slot.hits)
+}
+
+/// Calls `f` on every item; on the current pool in pieces of at least
+/// `len / threads` items when it has several threads (rayon's indexed
+/// iterators split by `join`: nothing is boxed, so nothing allocates).
+pub(crate) fn side_by_side<A: Send>(items: &mut [A], f: impl Fn(&mut A) + Sync + Send) {
+    let threads = rayon::current_num_threads();
+    if threads > 1 && items.len() > 1 {
+        let chunk = items.len().div_ceil(threads);
+        items.par_iter_mut().with_min_len(chunk).for_each(f);
+    } else {
+        items.iter_mut().for_each(f);
+    }
+}

@@ -1,0 +1,133 @@
+//! One Rerun recording per method ([`Recorder`]), written to disk every
+//! frame so a killed run leaves a recording of every frame before the kill;
+//! the files of a run that fails are deleted.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use cornertree_workbench::record::blueprint::{ccd_blueprint, run_blueprint};
+use cornertree_workbench::record::layout;
+use cornertree_workbench::record::recorder::{character_paths, object_paths};
+use cornertree_workbench::record::target::RecordingTarget;
+use cornertree_workbench::record::{RecordOptions, Recorder, SceneInfo};
+use cornertree_workbench::session::Session;
+
+use super::{Observer, Seen};
+
+/// Every method's recorder (`None` where the target records nothing).
+pub struct Recordings {
+    pub recorders: Vec<Option<Recorder>>,
+    /// Files started, deleted if the run fails.
+    pub created: Vec<PathBuf>,
+}
+
+/// Deletes files of recordings that did not finish (an error, not Ctrl-C).
+pub fn discard(paths: &[PathBuf]) {
+    for p in paths {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+impl Recordings {
+    /// Opens one recording per method of `session` at `target` and logs the
+    /// scene; `markdown` describes the scenario for each method.
+    pub fn open(
+        session: &mut Session,
+        target: &RecordingTarget,
+        name: &str,
+        ccd: bool,
+        markdown: impl Fn(&Session, usize) -> String,
+    ) -> anyhow::Result<Self> {
+        let scene = &session.scene;
+        let options = RecordOptions {
+            all_spheres: scene.recording.all_spheres,
+            mesh_every: scene.recording.mesh_every,
+            spheres_every: scene.recording.spheres_every,
+        };
+        let (characters, objects) = (character_paths(scene), object_paths(scene));
+        let methods = session.worlds().len();
+        let mut out = Self {
+            recorders: Vec::new(),
+            created: Vec::new(),
+        };
+        for m in 0..methods {
+            let w = session.world(m);
+            let level = w
+                .character(session.character(0))
+                .map(|c| layout::display_level(&c.tree().tree))
+                .unwrap_or(0);
+            let blueprint = if ccd {
+                let bodies: Vec<String> = characters.iter().chain(&objects).cloned().collect();
+                ccd_blueprint(&bodies)
+            } else {
+                run_blueprint(&characters, &objects, level)
+            };
+            let method = w.method();
+            let opened = target
+                .open(name, method.name(), methods, blueprint)
+                .inspect_err(|_| discard(&out.created))?;
+            let Some(o) = opened else {
+                out.recorders.push(None);
+                continue;
+            };
+            if let Some(path) = &o.path {
+                out.created.push(path.clone());
+            }
+            let info = SceneInfo {
+                scenario: name,
+                markdown: markdown(session, m),
+            };
+            let r = Recorder::new(o.stream, options, &info, session, m)
+                .inspect_err(|_| discard(&out.created))?;
+            out.recorders.push(Some(r));
+        }
+        Ok(out)
+    }
+
+    /// Method `m`'s stream, if recorded.
+    pub fn stream(&self, m: usize) -> Option<&rerun::RecordingStream> {
+        self.recorders[m].as_ref().map(Recorder::stream)
+    }
+
+    /// Ends every recording with `note`; returns the frames each logged.
+    pub fn finish(self, session: &Session, note: &str) -> anyhow::Result<Vec<usize>> {
+        let mut logged = Vec::new();
+        for (rec, w) in self.recorders.into_iter().zip(session.worlds()) {
+            if let Some(rec) = rec {
+                rec.finish(note)
+                    .with_context(|| format!("finishing the recording of {}", w.method()))?;
+                logged.push(rec.frames_logged());
+            }
+        }
+        Ok(logged)
+    }
+
+    fn log(&mut self, seen: &Seen<'_>, m: usize) -> anyhow::Result<()> {
+        let Some(rec) = &mut self.recorders[m] else {
+            return Ok(());
+        };
+        rec.log_frame(seen.k, seen.t, seen.session)?;
+        if let Some(r) = seen.reference {
+            rec.log_truth(&r.truth, &r.scores[m].details, seen.session)?;
+        }
+        rec.stream()
+            .flush_blocking()
+            .map_err(|e| anyhow::anyhow!("{e}"))
+    }
+}
+
+impl Observer for Recordings {
+    fn needs_skin(&self, _k: usize) -> bool {
+        self.recorders.iter().any(Option::is_some)
+    }
+
+    fn method(&mut self, seen: &Seen<'_>, m: usize) -> anyhow::Result<()> {
+        // Written to disk every frame: a killed run leaves a recording of
+        // every frame before the kill.
+        self.log(seen, m).map_err(|e| {
+            discard(&self.created);
+            let method = seen.session.world(m).method();
+            e.context(format!("recording frame {} of {method}", seen.k))
+        })
+    }
+}
