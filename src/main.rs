@@ -45,7 +45,7 @@ enum Command {
     /// 3k, 10k, 44k and 100k vertices) and against room size (the base room
     /// re-tessellated to about 10k, 133k and 500k vertices), each method
     /// beside the parry3d baseline as in `bench`; prints the markdown tables
-    /// of docs/performance.md.
+    /// of docs/performance-journal.md ("Scaling").
     Scaling(cli::scaling::ScalingArgs),
     /// Write recordings that reproduce the paper's Figures 1-3: a triangle left
     /// out by edge de-duplication among its three neighbours; a big triangle's

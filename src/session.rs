@@ -10,7 +10,7 @@
 //! work.
 //!
 //! The session owns the thread pool its worlds step on (pinned to
-//! processors, docs/performance.md, "Pinned pool threads") and a pool of one
+//! processors, docs/performance-journal.md, "Pinned pool threads") and a pool of one
 //! thread for one-thread measurements.
 
 use std::sync::Arc;
@@ -296,20 +296,11 @@ impl Session {
             }
             t0.elapsed().as_secs_f64() * 1e3
         };
+        // As a frame's passes: timed once every thread is awake.
         self.pose_ms = if !parallel || pool.current_thread_index().is_some() {
             pose_all()
         } else {
-            // As a frame's passes (see [`with_threads_awake`]): timed once
-            // every thread is awake.
-            let go = AtomicBool::new(false);
-            let mut ms = 0.0;
-            pool.install(|| {
-                with_threads_awake(&go, || {
-                    go.store(true, Ordering::Release);
-                    ms = pose_all();
-                })
-            });
-            ms
+            awake_on(pool, pose_all)
         };
         self.posed = Some(k);
     }
@@ -379,31 +370,25 @@ impl Session {
             return;
         }
         let pool = if one_thread { &self.serial } else { &self.pool }.clone();
-        let run = |s: &mut Session| {
+        let one = self.characters.len() <= 1;
+        let mut run = || {
             let t0 = Instant::now();
-            s.feed(m);
-            s.worlds[m].step();
+            self.feed(m);
+            self.worlds[m].step();
             t0.elapsed().as_secs_f64() * 1e3
         };
         // Inside the pool already (see [`Session::in_pool`]): no job to
         // hand over to it. One character is one pass: it runs on the
         // calling thread, as handing it to a pool thread and back costs two
         // thread wake-ups.
-        self.detect_ms[m] = if pool.current_thread_index().is_some() || self.characters.len() <= 1 {
-            run(self)
+        let ms = if pool.current_thread_index().is_some() || one {
+            run()
         } else {
             // Several characters: their passes may run side by side, on
             // threads awake from the start.
-            let go = AtomicBool::new(false);
-            let mut ms = 0.0;
-            pool.install(|| {
-                with_threads_awake(&go, || {
-                    go.store(true, Ordering::Release);
-                    ms = run(self);
-                })
-            });
-            ms
+            awake_on(&pool, run)
         };
+        self.detect_ms[m] = ms;
     }
 
     /// Times each sphere refit apart from the traversal (on by default;
@@ -534,6 +519,21 @@ fn side_by_side<A: Send, B: Send>(
     }
 }
 
+/// Runs `timed` on `pool` with every thread of the pool awake
+/// ([`with_threads_awake`]), the threads' work starting when it starts;
+/// returns what it returns (its milliseconds).
+fn awake_on(pool: &rayon::ThreadPool, timed: impl FnOnce() -> f64 + Send) -> f64 {
+    let go = AtomicBool::new(false);
+    let mut ms = 0.0;
+    pool.install(|| {
+        with_threads_awake(&go, || {
+            go.store(true, Ordering::Release);
+            ms = timed();
+        })
+    });
+    ms
+}
+
 /// Runs `frame` on the current thread once every other thread of the
 /// current pool is running, each held in a spin until `frame` sets `go`
 /// (when its passes start: they then take the passes' jobs at once).
@@ -541,7 +541,7 @@ fn side_by_side<A: Send, B: Send>(
 /// A frame handed to a pool from outside starts on a thread that has just
 /// woken, and its time starts there; without this, the other threads would
 /// wake during the frame, and on a virtual machine a processor idle for a
-/// few milliseconds takes 1–3 ms to wake (docs/performance.md, "All
+/// few milliseconds takes 1–3 ms to wake (docs/performance-journal.md, "All
 /// cores"), longer than a crowd's frame. One thread's frame does not count
 /// its wake-up either. If a thread has not come within 20 ms (a pool busy
 /// elsewhere), the frame starts without it. Arriving is not enough: a

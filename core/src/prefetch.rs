@@ -6,7 +6,7 @@
 //! first comes from memory. Where the next reads are known a few steps
 //! ahead (the children of a pair just pushed, the leaf pairs after the one
 //! being tested), asking for them early lets their loads overlap
-//! (`docs/performance.md`, "Cold caches").
+//! (`docs/performance-journal.md`, "Cold caches and a wider character tree").
 
 /// Starts loading the cache line of `p` (a hint; nothing on other
 /// architectures).

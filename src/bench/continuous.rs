@@ -267,17 +267,7 @@ pub fn measure_ccd(
         world.skin_all();
         if k > 0 {
             let prev_poses = prev_buffers.clone();
-            let bodies = StepBodies {
-                scene: &world.scene,
-                start: prev_positions.iter().map(Vec::as_slice).collect(),
-                end: world
-                    .buffers
-                    .iter()
-                    .map(|b| b.positions.as_slice())
-                    .collect(),
-                object_start: &prev_object_poses,
-                object_end: &world.object_poses,
-            };
+            let bodies = StepBodies::between(&prev_positions, &prev_object_poses, &world);
             truth.update(&bodies);
             if !truth.is_empty() {
                 let mut contacts: Vec<(StepPair, Vec<(u32, u32)>)> = Vec::new();

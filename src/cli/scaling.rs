@@ -4,6 +4,7 @@
 //! [`cornertree_workbench::bench::variants`]).
 
 use anyhow::Context;
+use cornertree::pipeline::Method;
 use cornertree_workbench::bench::{Bench, variants};
 use cornertree_workbench::report::bench::{Column, scaling_table};
 use cornertree_workbench::scenario::{Resolved, load_scenario, scenario_name};
@@ -88,8 +89,20 @@ fn cm(x: Option<f32>) -> String {
 pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
     let common = &args.common;
     let methods = common.methods_or_all();
-    let name = scenario_name(&common.scenario);
     let frames = common.frames.unwrap_or(16);
+    let studies = studies(&args)?;
+    let result = measure_studies(&args, &studies, &methods, frames)?;
+    let mut out = tables(&args, &result, &methods);
+    if let Some(path) = &common.json {
+        std::fs::write(path, serde_json::to_string(&result)?)
+            .with_context(|| format!("{}: cannot write the report", path.display()))?;
+        out += &format!("\nreport: {}\n", path.display());
+    }
+    Ok(out)
+}
+
+/// The configurations the arguments ask for, checked.
+fn studies(args: &ScalingArgs) -> anyhow::Result<Vec<Study>> {
     let gaps: Vec<f32> = match (&args.contact_gaps, args.contact_sweep) {
         (Some(g), _) => g.clone(),
         (None, true) => CONTACT_GAPS.to_vec(),
@@ -98,35 +111,47 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
     if let Some(g) = gaps.iter().find(|g| !g.is_finite() || g.abs() > 1.0) {
         anyhow::bail!("--contact-gaps: {g}: a gap must be finite and within ±1 m");
     }
+    if let Some(&n) = args.characters_count.iter().find(|&&n| n == 0) {
+        anyhow::bail!("--characters-count: {n}: a crowd needs at least one character");
+    }
     let crowd_only = !args.characters_count.is_empty() || !gaps.is_empty();
-    let characters = args.characters.clone().unwrap_or_else(|| {
+    let default = |sizes: &[usize]| {
         if crowd_only {
             Vec::new()
         } else {
-            CHARACTER_VERTICES.to_vec()
+            sizes.to_vec()
         }
-    });
-    let environments = args.environments.clone().unwrap_or_else(|| {
-        if crowd_only {
-            Vec::new()
-        } else {
-            ENVIRONMENT_VERTICES.to_vec()
-        }
-    });
-    let studies: Vec<Study> = characters
+    };
+    let characters = args
+        .characters
+        .clone()
+        .unwrap_or_else(|| default(&CHARACTER_VERTICES));
+    let environments = args
+        .environments
+        .clone()
+        .unwrap_or_else(|| default(&ENVIRONMENT_VERTICES));
+    Ok(characters
         .iter()
         .map(|&c| Study::Character(c))
         .chain(environments.iter().map(|&e| Study::Environment(e)))
         .chain(args.characters_count.iter().map(|&n| Study::Crowd(n)))
         .chain(gaps.iter().map(|&g| Study::Contact(g)))
-        .collect();
-    if let Some(&n) = args.characters_count.iter().find(|&&n| n == 0) {
-        anyhow::bail!("--characters-count: {n}: a crowd needs at least one character");
-    }
+        .collect())
+}
+
+/// Measures every study, `frames` frames each, grouped by kind.
+fn measure_studies(
+    args: &ScalingArgs,
+    studies: &[Study],
+    methods: &[Method],
+    frames: u64,
+) -> anyhow::Result<Scaling> {
+    let common = &args.common;
+    let name = scenario_name(&common.scenario);
     let base = load_scenario(&common.scenario)?;
     let progress = progress_bar(studies.len() as u64 * frames);
     let mut by = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
-    for study in &studies {
+    for study in studies {
         let (label, slot, scene): (String, usize, anyhow::Result<Resolved>) = match *study {
             Study::Character(c) => (
                 format!("{name}, humanoid of {c} vertices"),
@@ -157,7 +182,7 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
         progress.set_message(label.clone());
         let mut scene = scene.with_context(|| label.clone())?;
         common.apply(&mut scene, Some(false));
-        scene.methods = methods.clone();
+        scene.methods = methods.to_vec();
         by[slot].push(measure_with_progress(
             scene,
             &label,
@@ -173,14 +198,18 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
         by_characters_count,
         by_contact_gap,
     ] = by;
-    let result = Scaling {
+    Ok(Scaling {
         base_scenario: name,
         frames,
         by_character,
         by_environment,
         by_characters_count,
         by_contact_gap,
-    };
+    })
+}
+
+/// The markdown tables of `result`, one per kind of study.
+fn tables(args: &ScalingArgs, result: &Scaling, methods: &[Method]) -> String {
     let sizes: [Column; 2] = [
         ("character vertices", |b| b.vertices.to_string()),
         ("room vertices", |b| b.environment_vertices.to_string()),
@@ -201,21 +230,21 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
         "Median ms per frame over {} frames of {} (de-duplication {}; speed-up over parry3d in brackets)\n",
         result.frames,
         result.base_scenario,
-        match common.dedup_override() {
+        match args.common.dedup_override() {
             Some(true) => "on",
             _ => "off",
         }
     );
     if !result.by_character.is_empty() {
         out += "\n### Against character size (the room at its own size)\n\n";
-        out += &scaling_table(&result.by_character, &methods, &sizes);
+        out += &scaling_table(&result.by_character, methods, &sizes);
     }
     if !result.by_environment.is_empty() {
         out += &format!(
             "\n### Against environment size (humanoid of {} vertices)\n\n",
             args.character_size
         );
-        out += &scaling_table(&result.by_environment, &methods, &sizes);
+        out += &scaling_table(&result.by_environment, methods, &sizes);
     }
     if !result.by_characters_count.is_empty() {
         out += &format!(
@@ -223,7 +252,7 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
             args.crowd_vertices,
             variants::LANE_SPACING
         );
-        out += &scaling_table(&result.by_characters_count, &methods, &crowd);
+        out += &scaling_table(&result.by_characters_count, methods, &crowd);
     }
     if !result.by_contact_gap.is_empty() {
         let contact: [Column; 3] = [
@@ -238,12 +267,7 @@ pub fn scaling(args: ScalingArgs) -> anyhow::Result<String> {
             }),
         ];
         out += "\n### Against the depth of contact (negative gap: that deep into the surface at the deepest)\n\n";
-        out += &scaling_table(&result.by_contact_gap, &methods, &contact);
+        out += &scaling_table(&result.by_contact_gap, methods, &contact);
     }
-    if let Some(path) = &common.json {
-        std::fs::write(path, serde_json::to_string(&result)?)
-            .with_context(|| format!("{}: cannot write the report", path.display()))?;
-        out += &format!("\nreport: {}\n", path.display());
-    }
-    Ok(out)
+    out
 }

@@ -36,6 +36,10 @@ use cornertree::geometry::Real;
 use cornertree::pipeline::{DEFAULT_THRESHOLD, Method};
 
 pub use budget::RunLimits;
+
+/// Sub-steps per frame step of continuous detection's reference
+/// (`ccd_substeps`) by default.
+pub const DEFAULT_CCD_SUBSTEPS: u32 = 256;
 pub use objects::{ObjectEntry, ObjectShape};
 pub use resolve::{Actor, GapReport, PlacementPlan, Prop, Resolved, resolve, resolve_with};
 
@@ -676,7 +680,7 @@ impl Scenario {
         let ccd_substeps = match raw.ccd_substeps {
             Some(n) => ranges::whole(*n.get_ref(), 1, ranges::MAX_CCD_SUBSTEPS)
                 .map_err(|m| err_at(n.span(), "ccd_substeps", m))? as u32,
-            None => crate::truth::substep::DEFAULT_SUBSTEPS,
+            None => DEFAULT_CCD_SUBSTEPS,
         };
         let recording = match raw.recording {
             Some(r) => {

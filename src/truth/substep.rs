@@ -22,15 +22,13 @@ use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use serde::Serialize;
 
 use crate::scenario::Resolved;
+use crate::session::Session;
 use cornertree::geometry::Point;
 use cornertree::geometry::exact::corners_intersect_exact;
 use cornertree::mesh::TriMesh;
 use cornertree::world::{
     CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
 };
-
-/// Sub-steps per frame step by default.
-pub const DEFAULT_SUBSTEPS: u32 = 256;
 
 /// A triangle's corners at both ends of a step (`f64`).
 pub type MovingCorners = [[[f64; 3]; 3]; 2];
@@ -49,7 +47,27 @@ fn wide(p: &Point) -> [f64; 3] {
     [p.x as f64, p.y as f64, p.z as f64]
 }
 
-impl StepBodies<'_> {
+impl<'a> StepBodies<'a> {
+    /// The step from the previous frame (each character's vertices and each
+    /// object's pose then) to the session's current one.
+    pub fn between(
+        prev_positions: &'a [Vec<Point>],
+        prev_poses: &'a [Isometry3<f32>],
+        session: &'a Session,
+    ) -> Self {
+        StepBodies {
+            scene: &session.scene,
+            start: prev_positions.iter().map(Vec::as_slice).collect(),
+            end: session
+                .buffers
+                .iter()
+                .map(|b| b.positions.as_slice())
+                .collect(),
+            object_start: prev_poses,
+            object_end: &session.object_poses,
+        }
+    }
+
     /// Character `c`'s triangle `t` at both ends.
     pub fn character_triangle(&self, c: usize, t: u32) -> MovingCorners {
         let idx = self.scene.characters[c].character.mesh.indices()[t as usize];

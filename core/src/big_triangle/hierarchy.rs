@@ -44,7 +44,9 @@ pub const MAX_LEVELS: usize = 10;
 /// The hierarchy of one big triangle.
 #[derive(Clone, Debug)]
 pub struct Division {
+    /// Which sub-triangles were allowed to split.
     pub kind: DivisionKind,
+    /// The big triangle this hierarchy covers, in its mesh.
     pub original: TriangleId,
     /// Sub-triangle spheres, breadth first; leaves hold `original`.
     pub tree: SphereTree,
@@ -57,14 +59,40 @@ pub struct Division {
 /// Why a division is malformed.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum DivisionError {
+    /// A corner of a node's sub-triangle lies outside the node's sphere.
     #[error("node {node}: its sub-triangle sticks out of its sphere")]
-    PieceOutside { node: u32 },
+    PieceOutside {
+        /// The node, breadth-first index in the tree.
+        node: u32,
+    },
+    /// An inner node's children do not cover its sub-triangle's area.
     #[error("node {node}: children's areas sum to {sum}, the piece has {area}")]
-    ChildrenDoNotTile { node: u32, sum: f64, area: f64 },
+    ChildrenDoNotTile {
+        /// The inner node, breadth-first index in the tree.
+        node: u32,
+        /// Sum of the children's areas.
+        sum: f64,
+        /// Area of the node's own sub-triangle.
+        area: f64,
+    },
+    /// The leaves together do not cover the original triangle's area.
     #[error("leaves' areas sum to {sum}, the original triangle has {area}")]
-    LeavesDoNotTile { sum: f64, area: f64 },
+    LeavesDoNotTile {
+        /// Sum of the leaves' areas.
+        sum: f64,
+        /// Area of the original triangle.
+        area: f64,
+    },
+    /// A leaf's primitive is not the original triangle.
     #[error("leaf {node} points to triangle {got}, not {expected}")]
-    WrongPrimitive { node: u32, got: u32, expected: u32 },
+    WrongPrimitive {
+        /// The leaf, breadth-first index in the tree.
+        node: u32,
+        /// The triangle index the leaf holds.
+        got: u32,
+        /// The original triangle's index.
+        expected: u32,
+    },
 }
 
 impl Division {

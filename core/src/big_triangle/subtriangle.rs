@@ -6,6 +6,7 @@ use crate::geometry::{Point, Real, Triangle};
 /// original triangle's boundary.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubTriangle {
+    /// The piece's corners, in the same space as the original triangle.
     pub triangle: Triangle,
     /// `boundary[k]` for edge k: ab, bc, ca.
     pub boundary: [bool; 3],

@@ -6,10 +6,14 @@ use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
 use super::{JointId, Trs};
 
+/// How a channel's values vary between keyframes (glTF's `interpolation`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Interpolation {
+    /// Hold each keyframe's value until the next keyframe.
     Step,
+    /// Linear for translation and scale, spherical for rotation.
     Linear,
+    /// Cubic Hermite spline through the values, with in- and out-tangents.
     CubicSpline,
 }
 
@@ -17,9 +21,11 @@ pub enum Interpolation {
 /// entries in order: in-tangent, value, out-tangent.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ChannelValues {
+    /// Translations, in the parent joint's space and units.
     Translation(Vec<Vector3<f32>>),
     /// Quaternions as stored (tangents are not unit quaternions).
     Rotation(Vec<Quaternion<f32>>),
+    /// Scale factors along the joint's local axes.
     Scale(Vec<Vector3<f32>>),
 }
 
@@ -32,36 +38,59 @@ impl ChannelValues {
     }
 }
 
+/// Keyframes animating one property (translation, rotation or scale) of one joint.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Channel {
+    /// The animated joint.
     pub joint: JointId,
+    /// How values vary between keyframes.
     pub interpolation: Interpolation,
     /// Keyframe times in seconds, strictly increasing.
     pub times: Vec<f32>,
+    /// The keyframe values, which also say which property is animated.
     pub values: ChannelValues,
 }
 
 /// Why a channel cannot be sampled.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ChannelError {
+    /// A channel has no keyframe times.
     #[error("channel {channel}: no keyframes")]
-    Empty { channel: usize },
+    Empty {
+        /// Index of the channel in the clip.
+        channel: usize,
+    },
+    /// A channel's keyframe times are not all finite or not strictly increasing.
     #[error("channel {channel}: keyframe times are not finite and increasing")]
-    BadTimes { channel: usize },
+    BadTimes {
+        /// Index of the channel in the clip.
+        channel: usize,
+    },
+    /// A channel's value count does not fit its keyframes (one value per
+    /// keyframe, three for a cubic spline).
     #[error(
         "channel {channel}: {values} values for {times} keyframes ({interpolation:?} needs {expected})"
     )]
     ValueCount {
+        /// Index of the channel in the clip.
         channel: usize,
+        /// Number of values given.
         values: usize,
+        /// Number of keyframe times.
         times: usize,
+        /// The channel's interpolation.
         interpolation: Interpolation,
+        /// Number of values that interpolation needs.
         expected: usize,
     },
+    /// A channel animates a joint the skeleton does not have.
     #[error("channel {channel}: targets joint {joint}, but the skeleton has {joints}")]
     JointOutOfRange {
+        /// Index of the channel in the clip.
         channel: usize,
+        /// The joint index it targets.
         joint: usize,
+        /// Number of joints in the skeleton.
         joints: usize,
     },
 }
@@ -69,7 +98,10 @@ pub enum ChannelError {
 /// A named animation.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Clip {
+    /// The clip's name, for choosing it (from glTF, the animation's name or
+    /// `"animation N"`).
     pub name: String,
+    /// The channels, each animating one property of one joint.
     pub channels: Vec<Channel>,
 }
 

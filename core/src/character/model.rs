@@ -11,7 +11,9 @@ use super::{Clip, Skeleton, Trs};
 /// Everything needed to pose and skin a character.
 #[derive(Clone, Debug)]
 pub struct Character {
+    /// The character's name (from glTF, the file's stem).
     pub name: String,
+    /// The joints that pose the mesh.
     pub skeleton: Skeleton,
     /// Triangles with bind-space (mesh space) positions.
     pub mesh: TriMesh,
@@ -19,6 +21,7 @@ pub struct Character {
     pub influences: Influences,
     /// The paper's one-joint binding, converted from `influences`.
     pub paper: PaperBinding,
+    /// The animations; the first is the default.
     pub clips: Vec<Clip>,
 }
 
@@ -26,7 +29,9 @@ pub struct Character {
 #[derive(Debug, thiserror::Error, PartialEq)]
 #[error("no clip named {name:?}; clips: {}", if available.is_empty() { "(none)".to_string() } else { available.join(", ") })]
 pub struct UnknownClip {
+    /// The name asked for (`"(first)"` when the character has no clip).
     pub name: String,
+    /// The names of the character's clips.
     pub available: Vec<String>,
 }
 
@@ -73,8 +78,11 @@ impl Character {
 /// phase reads ([`super::OnDemandSkin`]).
 #[derive(Clone, Debug)]
 pub struct PoseBuffers {
+    /// Each joint's transform relative to its parent (the sampled clip).
     pub local: Vec<Trs>,
+    /// Each joint's world matrix.
     pub world: Vec<Matrix4<f32>>,
+    /// Each joint's skin matrix `world · inverse_bind`: bind space to world.
     pub skin: Vec<Matrix4<f32>>,
     /// The skeleton's base frame, placed: `placement · base` (the parent frame
     /// of root joints, for refit and for the paper's skinning model).
@@ -84,6 +92,8 @@ pub struct PoseBuffers {
 }
 
 impl PoseBuffers {
+    /// Buffers sized for `character`, holding its rest pose and bind positions
+    /// (matrices are identity until [`PoseBuffers::pose`]).
     pub fn new(character: &Character) -> Self {
         let n = character.skeleton.len();
         Self {

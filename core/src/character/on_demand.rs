@@ -28,6 +28,7 @@ pub struct OnDemandSkin {
 }
 
 impl OnDemandSkin {
+    /// Room for a mesh of `vertices` vertices, none skinned yet.
     pub fn new(vertices: usize) -> Self {
         Self {
             positions: vec![Point::origin(); vertices],

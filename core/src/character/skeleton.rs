@@ -10,14 +10,18 @@ use super::Trs;
 pub struct JointId(pub u16);
 
 impl JointId {
+    /// The id as an index into the skeleton's joint list.
     #[inline]
     pub fn index(self) -> usize {
         self.0 as usize
     }
 }
 
+/// One joint: its name, parent, rest transform and inverse bind matrix.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
+    /// The joint's name (from glTF, the node's name or `"node N"`), for
+    /// [`Skeleton::find`] and errors.
     pub name: String,
     /// `None` for a root joint.
     pub parent: Option<JointId>,
@@ -30,26 +34,43 @@ pub struct Joint {
 /// Why joints do not form a usable skeleton.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum SkeletonError {
+    /// The joint list is empty.
     #[error("skeleton has no joints")]
     Empty,
+    /// More joints than a [`JointId`] can number (the count is given).
     #[error("skeleton has {0} joints; at most 65535 are supported")]
     TooMany(usize),
+    /// A joint's parent has the same or a later index.
     #[error("joint {joint} ({name}) has parent {parent}, which does not come before it")]
     ParentNotBefore {
+        /// Index of the joint.
         joint: usize,
+        /// Its name.
         name: String,
+        /// Index of its parent.
         parent: usize,
     },
+    /// A joint's rest transform or inverse bind matrix has a NaN or infinite entry.
     #[error("joint {joint} ({name}) has a non-finite rest transform or inverse bind matrix")]
-    NonFinite { joint: usize, name: String },
+    NonFinite {
+        /// Index of the joint.
+        joint: usize,
+        /// Its name.
+        name: String,
+    },
+    /// A joint's inverse bind matrix is not affine beyond rounding.
     #[error(
         "joint {joint} ({name}): the inverse bind matrix's fourth row is {row:?}, not [0, 0, 0, 1]"
     )]
     NotAffine {
+        /// Index of the joint.
         joint: usize,
+        /// Its name.
         name: String,
+        /// The matrix's fourth row as found.
         row: [f32; 4],
     },
+    /// The base matrix is not affine beyond rounding (its fourth row is given).
     #[error("the skeleton base's fourth row is {0:?}, not [0, 0, 0, 1]")]
     BaseNotAffine([f32; 4]),
 }
@@ -135,30 +156,37 @@ impl Skeleton {
         Ok(Self { joints, rest, base })
     }
 
+    /// All joints, parents before children.
     pub fn joints(&self) -> &[Joint] {
         &self.joints
     }
 
+    /// Joint `id`.
     pub fn joint(&self, id: JointId) -> &Joint {
         &self.joints[id.index()]
     }
 
+    /// Number of joints.
     pub fn len(&self) -> usize {
         self.joints.len()
     }
 
+    /// Whether there are no joints (never true for a checked skeleton).
     pub fn is_empty(&self) -> bool {
         self.joints.is_empty()
     }
 
+    /// World transform of the frame the root joints hang from.
     pub fn base(&self) -> &Matrix4<f32> {
         &self.base
     }
 
+    /// The parent of joint `id`, `None` for a root.
     pub fn parent(&self, id: JointId) -> Option<JointId> {
         self.joints[id.index()].parent
     }
 
+    /// The first joint named `name`, if any.
     pub fn find(&self, name: &str) -> Option<JointId> {
         self.joints
             .iter()

@@ -93,20 +93,35 @@ impl fmt::Display for SkinningModel {
 /// Why per-vertex skinning data is unusable. Vertex indices are the mesh's.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum SkinError {
+    /// Two per-vertex arrays differ in length.
     #[error("{what} has {got} entries for {vertices} vertices")]
     Length {
+        /// The array whose length is off (`"JOINTS_0"`, `"paper weights"`).
         what: &'static str,
+        /// Its number of entries.
         got: usize,
+        /// The number of vertices, from the other array.
         vertices: usize,
     },
+    /// A vertex is bound, with non-zero weight, to a joint the skin does not have.
     #[error("vertex {vertex}: joint index {joint} is out of range (the skin has {joints} joints)")]
     JointOutOfRange {
+        /// The vertex.
         vertex: usize,
+        /// The joint index it names.
         joint: usize,
+        /// Number of joints in the skin.
         joints: usize,
     },
+    /// A vertex's glTF weights are negative, non-finite or do not sum to a
+    /// positive number; or its paper weight is not in `[0, 1]`.
     #[error("vertex {vertex}: weights sum to {sum}, not a positive finite number")]
-    BadWeights { vertex: usize, sum: f32 },
+    BadWeights {
+        /// The vertex.
+        vertex: usize,
+        /// The weights' sum (for the paper's model, the one weight).
+        sum: f32,
+    },
 }
 
 /// Up to four (joint, weight) influences per vertex; weights are normalised to
@@ -174,10 +189,12 @@ impl Influences {
         }
     }
 
+    /// Number of vertices.
     pub fn len(&self) -> usize {
         self.joints.len()
     }
 
+    /// Whether there are no vertices.
     pub fn is_empty(&self) -> bool {
         self.joints.is_empty()
     }
@@ -214,6 +231,8 @@ impl Influences {
         crate::prefetch::prefetch_at(&self.weights, v);
     }
 
+    /// Linear blend skinning of vertex `v` at bind-space position `p`: its
+    /// posed position under the skin matrices `skin` (one per joint).
     #[inline]
     pub fn skin_vertex(&self, v: usize, p: &Point, skin: &[Matrix4<f32>]) -> Point {
         let h = p.to_homogeneous();
@@ -236,6 +255,8 @@ pub struct PaperBinding {
 }
 
 impl PaperBinding {
+    /// Checks one joint and one weight per vertex: every joint in `skeleton`,
+    /// every weight in `[0, 1]`.
     pub fn new(
         joint: Vec<JointId>,
         weight: Vec<f32>,
@@ -296,18 +317,23 @@ impl PaperBinding {
         Self { joint, weight }
     }
 
+    /// Number of vertices.
     pub fn len(&self) -> usize {
         self.joint.len()
     }
 
+    /// Whether there are no vertices.
     pub fn is_empty(&self) -> bool {
         self.joint.is_empty()
     }
 
+    /// The joint `a` vertex `v` belongs to.
     pub fn joint(&self, v: usize) -> JointId {
         self.joint[v]
     }
 
+    /// The weight `w` of vertex `v` on its joint's local transform, in `[0, 1]`
+    /// (0: follows the parent frame only, 1: rigid with the joint).
     pub fn weight(&self, v: usize) -> f32 {
         self.weight[v]
     }

@@ -6,8 +6,11 @@ use nalgebra::{Matrix4, UnitQuaternion, Vector3};
 /// `T · R · S` (applied to a point: scale, then rotate, then translate).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Trs {
+    /// Translation, in the parent's space and units.
     pub translation: Vector3<f32>,
+    /// Rotation, applied after the scale.
     pub rotation: UnitQuaternion<f32>,
+    /// Scale factor along each local axis, applied first.
     pub scale: Vector3<f32>,
 }
 
@@ -18,12 +21,14 @@ impl Default for Trs {
 }
 
 impl Trs {
+    /// No translation, no rotation, unit scale.
     pub const IDENTITY: Trs = Trs {
         translation: Vector3::new(0.0, 0.0, 0.0),
         rotation: UnitQuaternion::new_unchecked(nalgebra::Quaternion::new(1.0, 0.0, 0.0, 0.0)),
         scale: Vector3::new(1.0, 1.0, 1.0),
     };
 
+    /// A pure translation by `t`.
     pub fn from_translation(t: Vector3<f32>) -> Self {
         Self {
             translation: t,
@@ -31,6 +36,7 @@ impl Trs {
         }
     }
 
+    /// The affine matrix `T · R · S`.
     pub fn to_matrix(&self) -> Matrix4<f32> {
         let mut m = self.rotation.to_homogeneous();
         for c in 0..3 {

@@ -25,12 +25,46 @@ const WEIGHT: f64 = 2.0;
 
 /// Whether edges `a₀a₁` and `b₀b₁` meet during the step: `start` and `end`
 /// hold `a₀, a₁, b₀, b₁` at `t = 0` and `t = 1`. `f64` arithmetic.
+///
+/// Conservative (module doc): `None` is certain; `Some` gives a lower bound
+/// of the first contact.
+///
+/// ```
+/// use cornertree::geometry::ccd_edge_edge::edge_edge;
+/// use cornertree::geometry::ccd_root_finder::CcdParams;
+///
+/// let params = CcdParams::default();
+/// // Edge a along x, falling from z = 1 to z = -1; edge b still along y at
+/// // z = 0. They cross at the origin at t = 0.5.
+/// let b = [[0.0, -1.0, 0.0], [0.0, 1.0, 0.0]];
+/// let start = [[-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], b[0], b[1]];
+/// let end = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], b[0], b[1]];
+/// let hit = edge_edge(&start, &end, &params).unwrap();
+/// assert!(hit.resolved && hit.toi <= 0.5 && hit.toi > 0.499);
+/// // The same fall at y = 2, beyond b's end at y = 1: no contact.
+/// let start = [[-1.0, 2.0, 1.0], [1.0, 2.0, 1.0], b[0], b[1]];
+/// let end = [[-1.0, 2.0, -1.0], [1.0, 2.0, -1.0], b[0], b[1]];
+/// assert_eq!(edge_edge(&start, &end, &params), None);
+/// ```
 pub fn edge_edge(start: &[V3<f64>; 4], end: &[V3<f64>; 4], params: &CcdParams) -> Option<Impact> {
     edge_edge_as(start, end, params, 1.0)
 }
 
 /// [`edge_edge`] computed in `T`, seeking only contacts that start before
 /// `before` (`≤ 1`; boxes of later times are skipped).
+///
+/// ```
+/// use cornertree::geometry::ccd_edge_edge::edge_edge_as;
+/// use cornertree::geometry::ccd_root_finder::CcdParams;
+///
+/// // Crossing at t = 0.5 (as in `edge_edge`'s example).
+/// let b = [[0.0, -1.0, 0.0], [0.0, 1.0, 0.0]];
+/// let start = [[-1.0, 0.0, 1.0], [1.0, 0.0, 1.0], b[0], b[1]];
+/// let end = [[-1.0, 0.0, -1.0], [1.0, 0.0, -1.0], b[0], b[1]];
+/// let params = CcdParams::default();
+/// assert!(edge_edge_as::<f64>(&start, &end, &params, 0.4).is_none());
+/// assert!(edge_edge_as::<f64>(&start, &end, &params, 0.6).is_some());
+/// ```
 pub fn edge_edge_as<T: Binary64>(
     start: &[V3<T>; 4],
     end: &[V3<T>; 4],

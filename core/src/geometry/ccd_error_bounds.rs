@@ -5,7 +5,7 @@
 //! direction; and the certified bound of a witness box. Derivations:
 //! `docs/ccd.md`, "The error bound".
 
-use super::ccd_root_finder::CcdParams;
+use super::ccd_params::CcdParams;
 use super::counted::Counted;
 use super::scalar::Scalar;
 use super::vec3::{V3, dot};

@@ -4,9 +4,22 @@
 //! ends are exact `f64` and the bookkeeping costs no counted operation.
 
 /// An interval `[k / 2ˡ, (k + 1) / 2ˡ]` of a parameter.
+///
+/// ```
+/// use cornertree::geometry::ccd_param_box::Dyadic;
+///
+/// let d = Dyadic { k: 3, level: 2 };
+/// assert_eq!((d.lo(), d.hi()), (0.75, 1.0));
+/// // The finest level still has exact ends.
+/// let fine = Dyadic { k: (1 << 52) - 1, level: 52 };
+/// assert_eq!((fine.lo(), fine.hi()), (1.0 - f64::EPSILON, 1.0));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Dyadic {
+    /// The numerator `k`, below `2ˡ` for an interval inside `[0, 1]`.
     pub k: u64,
+    /// The level `l`: the interval's width is `2⁻ˡ` (at most
+    /// [`MAX_LEVEL`](super::ccd_root_finder::MAX_LEVEL)).
     pub level: u8,
 }
 
@@ -46,8 +59,13 @@ impl Dyadic {
 /// A box of parameters: time `t` and the two feature parameters `u`, `v`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ParamBox {
+    /// Time, as a fraction of the step.
     pub t: Dyadic,
+    /// The first feature parameter: along the first edge (edge–edge), or the
+    /// weight of the triangle's second corner (vertex–face).
     pub u: Dyadic,
+    /// The second feature parameter: along the second edge (edge–edge), or
+    /// the weight of the triangle's third corner (vertex–face).
     pub v: Dyadic,
 }
 

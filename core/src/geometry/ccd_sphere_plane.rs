@@ -3,7 +3,7 @@
 //!
 //! The sphere is interpolated between its two ends, `c(t) = c₀ + t(c₁ − c₀)`,
 //! `r(t) = r₀ + t(r₁ − r₀)` (it holds a node's triangles at every `t`, see
-//! `sphere_tree::swept`). With `n` the triangle's (unnormalised) normal and
+//! `geometry::sphere_sweep`). With `n` the triangle's (unnormalised) normal and
 //! `v₀` a corner, `D(t) = n·(c(t) − v₀)` and `R(t) = r(t)‖n‖` are linear in
 //! `t`, and the sphere meets the plane at `t` iff `−R(t) ≤ D(t) ≤ R(t)`: two
 //! linear inequalities, whose common solutions in `[0, 1]` form an interval.
@@ -30,6 +30,28 @@ const TIME_SLACK: f64 = 1e-12;
 /// A still triangle's plane, prepared once (`f64`): a corner `v₀`, the
 /// normal `n = (v₁ − v₀) × (v₂ − v₀)` and `‖n‖` (0 for a degenerate
 /// triangle, which no sphere meets).
+///
+/// ```
+/// use cornertree::geometry::ccd_sphere_plane::{StillPlane, sweep_meets_plane};
+/// use cornertree::geometry::{Point, Sphere, Triangle};
+///
+/// // A wall in the plane x = 0, prepared once for several sweeps.
+/// let wall = Triangle::new(
+///     Point::new(0.0, -1.0, -1.0),
+///     Point::new(0.0, 2.0, -1.0),
+///     Point::new(0.0, -1.0, 2.0),
+/// );
+/// let plane = StillPlane::new(&wall);
+/// let at = |x: f32, r: f32| Sphere::new(Point::new(x, 0.0, 0.0), r);
+/// // Moving from x = 1 to x = 0, radius 0.25: touches at x = 0.25, t = 0.75.
+/// let toi = plane.sweep_toi(&at(1.0, 0.25), &at(0.0, 0.25)).unwrap();
+/// assert!(toi <= 0.75 && toi > 0.75 - 1e-9);
+/// // Moving away: no contact.
+/// assert_eq!(plane.sweep_toi(&at(1.0, 0.25), &at(2.0, 0.25)), None);
+/// for (a, b) in [(at(1.0, 0.25), at(0.0, 0.25)), (at(1.0, 0.25), at(2.0, 0.25))] {
+///     assert_eq!(plane.sweep_toi(&a, &b), sweep_meets_plane(&a, &b, &wall));
+/// }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StillPlane {
     v0: [f64; 3],
@@ -38,6 +60,8 @@ pub struct StillPlane {
 }
 
 impl StillPlane {
+    /// Prepares the plane of `tri` in `f64`: its first corner, the normal
+    /// `(v₁ − v₀) × (v₂ − v₀)` and its length.
     pub fn new(tri: &Triangle) -> Self {
         let w = |p: &crate::geometry::Point| [p.x as f64, p.y as f64, p.z as f64];
         let (v0, v1, v2) = (w(&tri.a), w(&tri.b), w(&tri.c));
@@ -102,6 +126,34 @@ impl StillPlane {
 /// The earliest `t ∈ [0, 1]` at which the sphere interpolated from `start`
 /// to `end` meets the plane of `tri` (a lower bound, within `1e-12`), or
 /// `None` if it never does. A degenerate triangle has no plane: `None`.
+///
+/// The plane, not the triangle: as in Algorithm 1 (paper §5), the sphere
+/// may meet the plane outside the triangle. Closed sets: touching counts.
+///
+/// ```
+/// use cornertree::geometry::ccd_sphere_plane::sweep_meets_plane;
+/// use cornertree::geometry::{Point, Sphere, Triangle};
+///
+/// // A floor in the plane y = 0.
+/// let floor = Triangle::new(
+///     Point::new(-1.0, 0.0, -1.0),
+///     Point::new(-1.0, 0.0, 2.0),
+///     Point::new(2.0, 0.0, -1.0),
+/// );
+/// let ball = |y: f32, r: f32| Sphere::new(Point::new(0.0, y, 0.0), r);
+/// // From 0.375 above to 0.125 below, radius 0.125: apart at both ends,
+/// // touching at t = 0.5 (0.375 − 0.5 t = 0.125).
+/// let toi = sweep_meets_plane(&ball(0.375, 0.125), &ball(-0.125, 0.125), &floor).unwrap();
+/// assert!(toi <= 0.5 && toi > 0.5 - 1e-9);
+/// // Tangent at the start, then rising: contact at t = 0.
+/// assert_eq!(sweep_meets_plane(&ball(0.1, 0.1), &ball(0.5, 0.1), &floor), Some(0.0));
+/// // Staying 0.1 above the floor: none.
+/// assert_eq!(sweep_meets_plane(&ball(0.3, 0.1), &ball(0.2, 0.1), &floor), None);
+/// // A still centre whose radius grows from 0.125 to 0.625 reaches the
+/// // floor at radius 0.375, t = 0.5.
+/// let toi = sweep_meets_plane(&ball(0.375, 0.125), &ball(0.375, 0.625), &floor).unwrap();
+/// assert!(toi <= 0.5 && toi > 0.5 - 1e-9);
+/// ```
 pub fn sweep_meets_plane(start: &Sphere, end: &Sphere, tri: &Triangle) -> Option<f64> {
     StillPlane::new(tri).sweep_toi(start, end)
 }
@@ -173,7 +225,7 @@ mod tests {
             let a = Sphere::new(Point::new(rnd(), rnd(), rnd()), rnd().abs() * 0.3);
             let b = Sphere::new(Point::new(rnd(), rnd(), rnd()), rnd().abs() * 0.3);
             let got = sweep_meets_plane(&a, &b, &tri);
-            let sweep = crate::sphere_tree::swept::SphereSweep { start: a, end: b };
+            let sweep = crate::geometry::sphere_sweep::SphereSweep { start: a, end: b };
             let plane = crate::geometry::plane_sphere::TrianglePlane::<f64>::new(&tri);
             let first = (0..=1000)
                 .map(|i| i as f64 / 1000.0)

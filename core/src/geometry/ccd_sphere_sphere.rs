@@ -22,6 +22,30 @@ const SLACK: f64 = 1e-12;
 
 /// Whether sphere `a` (from `a0` to `a1`) and sphere `b` (from `b0` to
 /// `b1`), each interpolated linearly over the step, meet at some time.
+///
+/// Closed sets (touching counts) and conservative: `false` is certain,
+/// `true` may also cover a miss within the slack of the module doc.
+///
+/// ```
+/// use cornertree::geometry::ccd_sphere_sphere::sweeps_meet;
+/// use cornertree::geometry::{Point, Sphere};
+///
+/// let s = |x: f32, y: f32, r: f32| Sphere::new(Point::new(x, y, 0.0), r);
+/// let still = s(0.0, 0.0, 0.1);
+/// // From x = -1 to x = 1 at y = 0.05: apart at both ends, through the
+/// // still ball in the middle of the step.
+/// assert!(!s(-1.0, 0.05, 0.1).overlaps(&still) && !s(1.0, 0.05, 0.1).overlaps(&still));
+/// assert!(sweeps_meet(&s(-1.0, 0.05, 0.1), &s(1.0, 0.05, 0.1), &still, &still));
+/// // The same pass at y = 0.3: never within 0.2 of the centre.
+/// assert!(!sweeps_meet(&s(-1.0, 0.3, 0.1), &s(1.0, 0.3, 0.1), &still, &still));
+/// // Radii 0.25 and 0.125 passing 0.375 apart: touching at t = 0.5 only.
+/// let ball = s(0.0, 0.0, 0.125);
+/// assert!(sweeps_meet(&s(-1.0, 0.375, 0.25), &s(1.0, 0.375, 0.25), &ball, &ball));
+/// // Both moving: side by side, never; crossing paths at the same time, yes.
+/// let (a0, a1) = (s(0.0, 0.0, 0.1), s(5.0, 0.0, 0.1));
+/// assert!(!sweeps_meet(&a0, &a1, &s(0.0, 0.5, 0.1), &s(5.0, 0.5, 0.1)));
+/// assert!(sweeps_meet(&a0, &a1, &s(2.5, -2.5, 0.1), &s(2.5, 2.5, 0.1)));
+/// ```
 #[inline]
 pub fn sweeps_meet(a0: &Sphere, a1: &Sphere, b0: &Sphere, b1: &Sphere) -> bool {
     let w = |s: &Sphere| [s.center.x as f64, s.center.y as f64, s.center.z as f64];

@@ -11,9 +11,27 @@ use super::scalar::Scalar;
 use super::vec3::V3;
 
 /// The box `[lo, hi]` of some points at both ends of a step.
+///
+/// ```
+/// use cornertree::geometry::ccd_swept_box::SweptBox;
+///
+/// // A point moving from the origin to (1, -1, 2), and a segment moving
+/// // from x = 1.5..2 to x = 1.5.
+/// let a = SweptBox::of(&[[0.0, 0.0, 0.0]], &[[1.0, -1.0, 2.0]]);
+/// assert_eq!((a.lo, a.hi), ([0.0, -1.0, 0.0], [1.0, 0.0, 2.0]));
+/// let b = SweptBox::of(&[[1.5, 0.0, 0.0], [2.0, 0.0, 0.0]], &[[1.5, 0.0, 0.0]]);
+/// // 0.5 apart along x: apart with no margin, not with a margin of 0.5.
+/// assert!(a.apart(&b, &[0.0; 3]) && b.apart(&a, &[0.0; 3]));
+/// assert!(!a.apart(&b, &[0.5; 3]));
+/// // Boxes that touch are not apart.
+/// let c = SweptBox::of(&[[1.0, 0.0, 0.0]], &[[3.0, 0.0, 0.0]]);
+/// assert!(!a.apart(&c, &[0.0; 3]));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SweptBox<T> {
+    /// The least coordinates, per axis.
     pub lo: V3<T>,
+    /// The greatest coordinates, per axis.
     pub hi: V3<T>,
 }
 

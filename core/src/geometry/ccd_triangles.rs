@@ -31,7 +31,10 @@ use super::vec3::V3;
 /// A triangle's corners at the start (`t = 0`) and end (`t = 1`) of a step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MovingTriangle<T> {
+    /// Corners at `t = 0`.
     pub start: [V3<T>; 3],
+    /// The same corners, in the same order, at `t = 1`; each moves on a
+    /// straight line in between.
     pub end: [V3<T>; 3],
 }
 
@@ -41,12 +44,27 @@ pub enum Feature {
     /// The triangles meet at `t = 0`: edge `edge` (corners `edge`,
     /// `edge + 1 mod 3`) of the first (`first`) or second triangle meets the
     /// other.
-    AtStart { first: bool, edge: usize },
+    AtStart {
+        /// Whether the edge is the first triangle's.
+        first: bool,
+        /// The edge's index, 0 to 2.
+        edge: usize,
+    },
     /// Corner `vertex` of the first (`first`) or second triangle against
     /// the other's face.
-    VertexFace { first: bool, vertex: usize },
+    VertexFace {
+        /// Whether the corner is the first triangle's.
+        first: bool,
+        /// The corner's index, 0 to 2.
+        vertex: usize,
+    },
     /// Edge `a` of the first triangle against edge `b` of the second.
-    EdgeEdge { a: usize, b: usize },
+    EdgeEdge {
+        /// The first triangle's edge (corners `a`, `a + 1 mod 3`).
+        a: usize,
+        /// The second triangle's edge (corners `b`, `b + 1 mod 3`).
+        b: usize,
+    },
 }
 
 /// A possible contact of two moving triangles.
@@ -54,6 +72,7 @@ pub enum Feature {
 pub struct TriangleImpact {
     /// A lower bound of the time of first contact, in `[0, 1)`.
     pub toi: f64,
+    /// Which elementary contact gave [`TriangleImpact::toi`].
     pub feature: Feature,
     /// The elementary test's answer (its `toi` is the edge parameter for
     /// [`Feature::AtStart`]).
@@ -61,6 +80,34 @@ pub struct TriangleImpact {
 }
 
 /// Whether two moving triangles touch during the step (`f64` arithmetic).
+///
+/// Conservative (module doc): `None` is certain; `Some` gives a lower bound
+/// of the first contact and the elementary contact behind it.
+///
+/// ```
+/// use cornertree::geometry::ccd_root_finder::CcdParams;
+/// use cornertree::geometry::ccd_triangles::{Feature, MovingTriangle, triangles};
+///
+/// let moving = |start: [[f64; 3]; 3], d: [f64; 3]| MovingTriangle {
+///     start,
+///     end: start.map(|p| [p[0] + d[0], p[1] + d[1], p[2] + d[2]]),
+/// };
+/// let floor = moving([[-1.0, -1.0, 0.0], [2.0, -1.0, 0.0], [-1.0, 2.0, 0.0]], [0.0; 3]);
+/// let params = CcdParams::default();
+/// // Falling by 1 with its lowest corner (corner 0) at z = 0.5: that corner
+/// // reaches the floor first, at t = 0.5.
+/// let corners = [[0.2, 0.2, 0.5], [0.6, 0.2, 1.0], [0.2, 0.6, 1.0]];
+/// let hit = triangles(&moving(corners, [0.0, 0.0, -1.0]), &floor, &params).unwrap();
+/// assert!(hit.toi <= 0.5 && hit.toi > 0.499);
+/// assert_eq!(hit.feature, Feature::VertexFace { first: true, vertex: 0 });
+/// // Falling only 0.4: it stops 0.1 short.
+/// assert_eq!(triangles(&moving(corners, [0.0, 0.0, -0.4]), &floor, &params), None);
+/// // Already through the floor at the start: contact at t = 0.
+/// let pin = [[0.0, 0.0, -1.0], [0.0, 0.1, 1.0], [0.1, 0.0, 1.0]];
+/// let hit = triangles(&moving(pin, [0.1, 0.1, 0.0]), &floor, &params).unwrap();
+/// assert_eq!(hit.toi, 0.0);
+/// assert!(matches!(hit.feature, Feature::AtStart { .. }));
+/// ```
 pub fn triangles(
     a: &MovingTriangle<f64>,
     b: &MovingTriangle<f64>,
@@ -109,7 +156,33 @@ pub fn time_of_impact(
 /// The edges as corner pairs.
 const EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 
-/// [`triangles`] computed in `T`.
+/// [`triangles`] computed in `T` (`f64`, or
+/// [`Counted`](super::counted::Counted) to count the operations paid).
+///
+/// ```
+/// use cornertree::geometry::ccd_root_finder::CcdParams;
+/// use cornertree::geometry::ccd_triangles::{MovingTriangle, triangles, triangles_as};
+/// use cornertree::geometry::counted::{Counted, count_operations};
+/// use cornertree::geometry::scalar::Scalar;
+///
+/// let falling = MovingTriangle {
+///     start: [[0.2, 0.2, 0.5], [0.6, 0.2, 1.0], [0.2, 0.6, 1.0]],
+///     end: [[0.2, 0.2, -0.5], [0.6, 0.2, 0.0], [0.2, 0.6, 0.0]],
+/// };
+/// let floor = [[-1.0, -1.0, 0.0], [2.0, -1.0, 0.0], [-1.0, 2.0, 0.0]];
+/// let floor = MovingTriangle { start: floor, end: floor };
+/// let params = CcdParams::default();
+/// let wide = |m: &MovingTriangle<f64>| MovingTriangle {
+///     start: m.start.map(|p| p.map(Counted::from_f64)),
+///     end: m.end.map(|p| p.map(Counted::from_f64)),
+/// };
+/// let (counted, ops) =
+///     count_operations(|| triangles_as(&wide(&falling), &wide(&floor), &params));
+/// // The same answer as in f64, at some cost.
+/// assert_eq!(counted, triangles(&falling, &floor, &params));
+/// assert!(counted.is_some_and(|i| i.toi <= 0.5 && i.toi > 0.499));
+/// assert!(ops > 0);
+/// ```
 pub fn triangles_as<T: Binary64>(
     a: &MovingTriangle<T>,
     b: &MovingTriangle<T>,

@@ -26,12 +26,59 @@ const WEIGHT: f64 = 4.0;
 
 /// Whether point `p` meets triangle `abc` during the step: `start` and
 /// `end` hold `p, a, b, c` at `t = 0` and `t = 1`. `f64` arithmetic.
+///
+/// Conservative (module doc): `None` is certain; `Some` gives a lower bound
+/// of the first contact.
+///
+/// ```
+/// use cornertree::geometry::ccd_root_finder::CcdParams;
+/// use cornertree::geometry::ccd_vertex_face::vertex_face;
+///
+/// let tri = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let [a, b, c] = tri;
+/// let params = CcdParams::default();
+/// // A point falling from z = 1 to z = -1 through (0.25, 0.25, 0): it
+/// // crosses the still triangle at t = 0.5.
+/// let hit = vertex_face(
+///     &[[0.25, 0.25, 1.0], a, b, c],
+///     &[[0.25, 0.25, -1.0], a, b, c],
+///     &params,
+/// )
+/// .unwrap();
+/// assert!(hit.resolved && hit.toi <= 0.5 && hit.toi > 0.499);
+/// // The same fall beside the hypotenuse, through (0.75, 0.75, 0): no contact.
+/// let miss = vertex_face(
+///     &[[0.75, 0.75, 1.0], a, b, c],
+///     &[[0.75, 0.75, -1.0], a, b, c],
+///     &params,
+/// );
+/// assert_eq!(miss, None);
+/// // The triangle rising to meet a still point at z = 0.25: contact at t = 0.25.
+/// let up = tri.map(|q| [q[0], q[1], q[2] + 1.0]);
+/// let p = [0.25, 0.25, 0.25];
+/// let hit = vertex_face(&[p, a, b, c], &[p, up[0], up[1], up[2]], &params).unwrap();
+/// assert!(hit.toi <= 0.25 && hit.toi > 0.249);
+/// ```
 pub fn vertex_face(start: &[V3<f64>; 4], end: &[V3<f64>; 4], params: &CcdParams) -> Option<Impact> {
     vertex_face_as(start, end, params, 1.0)
 }
 
 /// [`vertex_face`] computed in `T`, seeking only contacts that start before
 /// `before` (`≤ 1`; boxes of later times are skipped).
+///
+/// ```
+/// use cornertree::geometry::ccd_root_finder::CcdParams;
+/// use cornertree::geometry::ccd_vertex_face::vertex_face_as;
+///
+/// let [a, b, c] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let start = [[0.25, 0.25, 1.0], a, b, c];
+/// let end = [[0.25, 0.25, -1.0], a, b, c];
+/// let params = CcdParams::default();
+/// // The contact at t = 0.5 is not before 0.4, but is before 0.6.
+/// assert!(vertex_face_as::<f64>(&start, &end, &params, 0.4).is_none());
+/// let hit = vertex_face_as::<f64>(&start, &end, &params, 0.6).unwrap();
+/// assert!(hit.toi <= 0.5 && hit.toi > 0.499);
+/// ```
 pub fn vertex_face_as<T: Binary64>(
     start: &[V3<T>; 4],
     end: &[V3<T>; 4],

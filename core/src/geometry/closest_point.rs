@@ -12,6 +12,16 @@ use super::Triangle;
 pub type Point64 = Point3<f64>;
 
 /// Closest point to `p` on the closed segment `ab` (`a` if it is a point).
+///
+/// ```
+/// use cornertree::geometry::closest_point::{Point64, closest_point_on_segment};
+///
+/// let (a, b) = (Point64::new(0.0, 0.0, 0.0), Point64::new(2.0, 0.0, 0.0));
+/// let at = |x, y, z| closest_point_on_segment(&Point64::new(x, y, z), &a, &b);
+/// assert_eq!(at(0.5, 1.0, 3.0), Point64::new(0.5, 0.0, 0.0)); // beside the segment
+/// assert_eq!(at(5.0, 1.0, 0.0), b); // beyond an end: clamped
+/// assert_eq!(at(-1.0, 0.0, 0.0), a);
+/// ```
 pub fn closest_point_on_segment(p: &Point64, a: &Point64, b: &Point64) -> Point64 {
     let e = b - a;
     let len2 = e.norm_squared();
@@ -28,6 +38,22 @@ pub fn closest_point_on_segment(p: &Point64, a: &Point64, b: &Point64) -> Point6
 /// If the orthogonal projection of `p` onto the plane lies inside the
 /// triangle it is the answer; otherwise the closest point lies on the
 /// boundary, the nearest of the three edges' closest points.
+///
+/// ```
+/// use cornertree::geometry::closest_point::{Point64, closest_point_on_triangle};
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let t = Triangle::new(
+///     Point::new(0.0, 0.0, 0.0),
+///     Point::new(1.0, 0.0, 0.0),
+///     Point::new(0.0, 1.0, 0.0),
+/// );
+/// let at = |x, y, z| closest_point_on_triangle(&Point64::new(x, y, z), &t);
+/// assert_eq!(at(0.25, 0.5, 2.0), Point64::new(0.25, 0.5, 0.0)); // above the face
+/// assert_eq!(at(-3.0, -4.0, 1.0), Point64::new(0.0, 0.0, 0.0)); // beyond a corner
+/// assert_eq!(at(0.5, -2.0, -1.0), Point64::new(0.5, 0.0, 0.0)); // beyond the edge y = 0
+/// assert_eq!(at(1.0, 1.0, 0.0), Point64::new(0.5, 0.5, 0.0)); // beyond the hypotenuse
+/// ```
 pub fn closest_point_on_triangle(p: &Point64, t: &Triangle) -> Point64 {
     let [a, b, c] = t.vertices().map(|v| v.cast::<f64>());
     let n = (b - a).cross(&(c - a));
@@ -48,7 +74,22 @@ pub fn closest_point_on_triangle(p: &Point64, t: &Triangle) -> Point64 {
         .expect("three edges")
 }
 
-/// Euclidean distance from `p` to the closed triangle `t`.
+/// Euclidean distance from `p` to the closed triangle `t` (zero on it).
+///
+/// ```
+/// use cornertree::geometry::closest_point::{Point64, point_triangle_distance};
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let t = Triangle::new(
+///     Point::new(0.0, 0.0, 0.0),
+///     Point::new(1.0, 0.0, 0.0),
+///     Point::new(0.0, 1.0, 0.0),
+/// );
+/// let d = |x, y, z| point_triangle_distance(&Point64::new(x, y, z), &t);
+/// assert_eq!(d(0.25, 0.25, -2.0), 2.0); // below the face
+/// assert_eq!(d(-3.0, -4.0, 0.0), 5.0); // 3-4-5 from the corner at the origin
+/// assert_eq!(d(0.5, 0.5, 0.0), 0.0); // on the hypotenuse
+/// ```
 pub fn point_triangle_distance(p: &Point64, t: &Triangle) -> f64 {
     (closest_point_on_triangle(p, t) - p).norm()
 }

@@ -25,6 +25,18 @@ const SNAP: f64 = 16.0 * f64::EPSILON;
 /// Offsets `dᵢ = n · wᵢ` of corners from the plane through `a0` with normal
 /// `n = u × v`, given `wᵢ = pᵢ - a0`; each snapped to zero within its
 /// rounding-error bound.
+///
+/// ```
+/// use cornertree::geometry::coplanar_degenerate::plane_offsets;
+/// use cornertree::geometry::vec3::cross;
+///
+/// // The plane z = 0 through the origin, spanned by u and v.
+/// let (u, v) = ([2.0f64, 0.0, 0.0], [0.0, 2.0, 0.0]);
+/// let n = cross(&u, &v); // (0, 0, 4)
+/// let w = [[1.0, 1.0, 0.5], [3.0, -1.0, -2.0], [5.0, 5.0, 1e-17]];
+/// // 1e-17 is within the rounding bound of the third offset: snapped to 0.
+/// assert_eq!(plane_offsets(&w, &n, &u, &v), [2.0, -8.0, 0.0]);
+/// ```
 #[inline(always)]
 pub fn plane_offsets<T: Scalar>(w: &[V3<T>; 3], n: &V3<T>, u: &V3<T>, v: &V3<T>) -> [T; 3] {
     plane_offsets_scaled(w, n, edge_scale(u, v))
@@ -111,7 +123,26 @@ fn point_in_tri_2d<T: Scalar>(p: P2<T>, t: &[P2<T>; 3]) -> bool {
 
 /// Coplanar test: `t` is non-degenerate with normal `n`; `s` may be
 /// degenerate (`s_has_area == false`). Contact iff edges cross or a corner of
-/// one lies in the other.
+/// one lies in the other (closed triangles).
+///
+/// ```
+/// use cornertree::geometry::coplanar_degenerate::coplanar;
+///
+/// let t = [[0.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let n = [0.0, 0.0, 1.0];
+/// // Inside t entirely (no edges cross): a corner inside decides.
+/// let inner = [[0.1, 0.1, 0.0], [0.3, 0.1, 0.0], [0.1, 0.3, 0.0]];
+/// assert!(coplanar(&inner, &t, &n, true));
+/// // t inside a big triangle: a corner of t inside s decides.
+/// let big = [[-5.0, -5.0, 0.0], [10.0, -5.0, 0.0], [-5.0, 10.0, 0.0]];
+/// assert!(coplanar(&big, &t, &n, true));
+/// // Sharing the corner (1, 0, 0) only: touching counts.
+/// let corner = [[1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0]];
+/// assert!(coplanar(&corner, &t, &n, true));
+/// // Beyond the hypotenuse.
+/// let apart = [[1.0, 1.0, 0.0], [2.0, 1.0, 0.0], [1.0, 2.0, 0.0]];
+/// assert!(!coplanar(&apart, &t, &n, true));
+/// ```
 pub fn coplanar<T: Scalar>(s: &[V3<T>; 3], t: &[V3<T>; 3], n: &V3<T>, s_has_area: bool) -> bool {
     let k = major_axis(n);
     let (s2, t2) = (s.map(|p| proj(&p, k)), t.map(|p| proj(&p, k)));
@@ -124,6 +155,22 @@ pub fn coplanar<T: Scalar>(s: &[V3<T>; 3], t: &[V3<T>; 3], n: &V3<T>, s_has_area
 }
 
 /// Closed segments `pq` and `rs` in space (either may be a point).
+///
+/// ```
+/// use cornertree::geometry::coplanar_degenerate::seg_seg_3d;
+///
+/// let o = [0.0f64; 3];
+/// // The diagonals of a square cross at (1, 1, 0).
+/// assert!(seg_seg_3d(&o, &[2.0, 2.0, 0.0], &[2.0, 0.0, 0.0], &[0.0, 2.0, 0.0]));
+/// // The second lifted by 1: skew, no contact.
+/// assert!(!seg_seg_3d(&o, &[2.0, 2.0, 0.0], &[2.0, 0.0, 1.0], &[0.0, 2.0, 1.0]));
+/// // Collinear, sharing the end (1, 1, 1); then apart on the same line.
+/// assert!(seg_seg_3d(&o, &[1.0, 1.0, 1.0], &[1.0, 1.0, 1.0], &[3.0, 3.0, 3.0]));
+/// assert!(!seg_seg_3d(&o, &[1.0, 1.0, 1.0], &[2.0, 2.0, 2.0], &[3.0, 3.0, 3.0]));
+/// // A point on a segment.
+/// let p = [0.5, 0.5, 0.5];
+/// assert!(seg_seg_3d(&p, &p, &o, &[1.0, 1.0, 1.0]));
+/// ```
 pub fn seg_seg_3d<T: Scalar>(p: &V3<T>, q: &V3<T>, r: &V3<T>, s: &V3<T>) -> bool {
     let (e, f, g) = (sub(q, p), sub(s, r), sub(r, p));
     let n = cross(&e, &f);
@@ -150,6 +197,17 @@ pub fn seg_seg_3d<T: Scalar>(p: &V3<T>, q: &V3<T>, r: &V3<T>, s: &V3<T>) -> bool
 }
 
 /// Two zero-area triangles (the unions of their edges): some pair of edges meets.
+///
+/// ```
+/// use cornertree::geometry::coplanar_degenerate::degenerate_pair;
+///
+/// // Two collinear-cornered "triangles": segments along x and along y.
+/// let along_x = [[-1.0f64, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]];
+/// let along_y = [[0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.5, 0.0]];
+/// assert!(degenerate_pair(&along_x, &along_y)); // crossing at the origin
+/// let above = along_y.map(|p| [p[0], p[1], 0.5]);
+/// assert!(!degenerate_pair(&along_x, &above));
+/// ```
 pub fn degenerate_pair<T: Scalar>(a: &[V3<T>; 3], b: &[V3<T>; 3]) -> bool {
     EDGES.iter().any(|&(i, j)| {
         EDGES

@@ -38,10 +38,12 @@ fn tick_comparison() {
 pub struct Operations {
     /// `+ − × ÷`, negation, `abs`, `sqrt`.
     pub arithmetic: u64,
+    /// `<`, `<=`, `>`, `>=`, `==`, `!=` (and `partial_cmp`).
     pub comparisons: u64,
 }
 
 impl Operations {
+    /// Arithmetic operations and comparisons together.
     pub fn total(&self) -> u64 {
         self.arithmetic + self.comparisons
     }
@@ -56,6 +58,21 @@ impl Operations {
 
 /// Runs `f` and returns its result with the number of [`Counted`] operations
 /// it executed on this thread, by kind.
+///
+/// The sphere-sphere test pays the 10 arithmetic operations the paper
+/// charges it (§6), plus its one comparison:
+///
+/// ```
+/// use cornertree::geometry::counted::{Counted, Operations, count_operations_by_kind};
+/// use cornertree::geometry::{Point, Sphere};
+///
+/// let a = Sphere::new(Point::new(0.0, 0.0, 0.0), 1.0);
+/// let b = Sphere::new(Point::new(3.0, 0.0, 0.0), 1.0);
+/// let (hit, ops) = count_operations_by_kind(|| a.overlaps_as::<Counted>(&b));
+/// assert!(!hit);
+/// assert_eq!(ops, Operations { arithmetic: 10, comparisons: 1 });
+/// assert_eq!(ops.total(), 11);
+/// ```
 pub fn count_operations_by_kind<R>(f: impl FnOnce() -> R) -> (R, Operations) {
     let before = Operations::now();
     let r = f();
@@ -69,6 +86,23 @@ pub fn count_operations_by_kind<R>(f: impl FnOnce() -> R) -> (R, Operations) {
 
 /// Runs `f` and returns its result with the number of [`Counted`] operations
 /// (arithmetic and comparisons) it executed on this thread.
+///
+/// Short-circuits are not paid, so an early exit costs less:
+///
+/// ```
+/// use cornertree::geometry::counted::{Counted, count_operations};
+/// use cornertree::geometry::scalar::Scalar;
+///
+/// let (a, b) = (Counted(3.0), Counted(4.0));
+/// let (r, n) = count_operations(|| (a * a + b * b).sqrt());
+/// assert_eq!((r.0, n), (5.0, 4));
+/// // Only the first comparison runs.
+/// let (r, n) = count_operations(|| a > b && a * b > Counted(0.0));
+/// assert_eq!((r, n), (false, 1));
+/// // Conversions are free.
+/// let (_, n) = count_operations(|| Counted::from_f32(1.5).to_f64());
+/// assert_eq!(n, 0);
+/// ```
 pub fn count_operations<R>(f: impl FnOnce() -> R) -> (R, u64) {
     let (r, ops) = count_operations_by_kind(f);
     (r, ops.total())

@@ -41,12 +41,57 @@ use super::coplanar_degenerate::{
 use super::scalar::Scalar;
 use super::vec3::{V3, cross, dot, is_zero, sub, widen_triangle};
 
-/// Whether two closed triangles share a point (`f64` arithmetic).
+/// Whether two closed triangles share a point (`f64` arithmetic from the
+/// `f32` corners; touching counts).
+///
+/// ```
+/// use cornertree::geometry::edge_crossing::triangles_intersect;
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// // An edge along z crossing the floor at (0.25, 0.25, 0).
+/// let piercing = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [-1.0, 0.25, 0.5]);
+/// assert!(triangles_intersect(&floor, &piercing) && triangles_intersect(&piercing, &floor));
+/// // The same edge at (0.75, 0.75, 0), beyond the hypotenuse x + y = 1.
+/// let beside = tri([0.75, 0.75, -1.0], [0.75, 0.75, 1.0], [2.0, 0.75, 0.5]);
+/// assert!(!triangles_intersect(&floor, &beside) && !triangles_intersect(&beside, &floor));
+/// // A corner resting exactly on the face touches; 0.001 higher it does not.
+/// let resting = tri([0.25, 0.25, 0.0], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+/// let lifted = tri([0.25, 0.25, 0.001], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+/// assert!(triangles_intersect(&floor, &resting));
+/// assert!(!triangles_intersect(&floor, &lifted));
+/// // Coplanar triangles sharing only the corner (1, 0, 0) touch.
+/// let corner = tri([1.0, 0.0, 0.0], [2.0, 0.0, 0.0], [2.0, 1.0, 0.0]);
+/// assert!(triangles_intersect(&floor, &corner));
+/// ```
 pub fn triangles_intersect(t1: &Triangle, t2: &Triangle) -> bool {
     triangles_intersect_as::<f64>(t1, t2)
 }
 
-/// [`triangles_intersect`] computed in `T`.
+/// [`triangles_intersect`] computed in `T`: with
+/// [`Counted`](super::counted::Counted), the operations this input pays.
+///
+/// ```
+/// use cornertree::geometry::counted::{Counted, count_operations};
+/// use cornertree::geometry::edge_crossing::triangles_intersect_as;
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// let piercing = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [-1.0, 0.25, 0.5]);
+/// let above = tri([0.25, 0.25, 0.5], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+/// let (hit, full) = count_operations(|| triangles_intersect_as::<Counted>(&floor, &piercing));
+/// let (miss, exit) = count_operations(|| triangles_intersect_as::<Counted>(&floor, &above));
+/// assert!(hit && !miss);
+/// assert!(triangles_intersect_as::<f64>(&floor, &piercing));
+/// // `above` is rejected by the plane-side exit, before any edge is solved.
+/// assert!(exit < full, "{exit} < {full}");
+/// ```
 pub fn triangles_intersect_as<T: Scalar>(t1: &Triangle, t2: &Triangle) -> bool {
     let (a, b) = (widen_triangle::<T>(t1), widen_triangle::<T>(t2));
     let (ua, va) = (sub(&a[1], &a[0]), sub(&a[2], &a[0]));

@@ -45,7 +45,18 @@ pub(crate) fn round_up(x: f64) -> Real {
 }
 
 /// Grows `s` (centre kept) just enough to hold `child`; rounding up keeps the
-/// containment exact.
+/// containment exact. A child already inside changes nothing.
+///
+/// ```
+/// use cornertree::geometry::enclosing::grow_to_hold;
+/// use cornertree::geometry::{Point, Sphere};
+///
+/// let mut s = Sphere::new(Point::origin(), 1.0);
+/// grow_to_hold(&mut s, &Sphere::new(Point::new(0.25, 0.0, 0.0), 0.5));
+/// assert_eq!(s, Sphere::new(Point::origin(), 1.0));
+/// grow_to_hold(&mut s, &Sphere::new(Point::new(0.0, 2.0, 0.0), 0.5));
+/// assert_eq!(s, Sphere::new(Point::origin(), 2.5));
+/// ```
 pub fn grow_to_hold(s: &mut Sphere, child: &Sphere) {
     let need = super::sphere::distance_f64(&child.center, &s.center) + child.radius as f64;
     if need > s.radius as f64 {
@@ -55,7 +66,45 @@ pub fn grow_to_hold(s: &mut Sphere, child: &Sphere) {
 
 /// The minimal enclosing sphere of a triangle: on the longest edge when the
 /// angle opposite it is not acute (degenerate triangles included), else the
-/// circumsphere.
+/// circumsphere. The leaf spheres of the paper's sphere trees (§3). Solved in
+/// `f64`; the `f32` radius is rounded up so that every corner lies inside.
+///
+/// ```
+/// use cornertree::geometry::enclosing::triangle_sphere;
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// // Obtuse at (2, 1, 0): the sphere on the longest edge, not the
+/// // circumsphere (centre (2, -1.5, 0), radius 2.5).
+/// let obtuse = Triangle::new(
+///     Point::new(0.0, 0.0, 0.0),
+///     Point::new(4.0, 0.0, 0.0),
+///     Point::new(2.0, 1.0, 0.0),
+/// );
+/// let s = triangle_sphere(&obtuse);
+/// assert_eq!((s.center, s.radius), (Point::new(2.0, 0.0, 0.0), 2.0));
+///
+/// // Right angle at the origin: centred on the hypotenuse, radius √2.
+/// let right = Triangle::new(
+///     Point::new(0.0, 0.0, 0.0),
+///     Point::new(2.0, 0.0, 0.0),
+///     Point::new(0.0, 2.0, 0.0),
+/// );
+/// let s = triangle_sphere(&right);
+/// assert_eq!(s.center, Point::new(1.0, 1.0, 0.0));
+/// assert!(s.radius as f64 >= 2f64.sqrt() && s.radius < 1.4143);
+/// assert!(right.vertices().iter().all(|p| s.contains_point(p, 0.0)));
+///
+/// // Acute (equilateral, side 2): the circumsphere, radius 2 / √3.
+/// let h = 3f32.sqrt();
+/// let acute = Triangle::new(
+///     Point::new(-1.0, 0.0, 0.0),
+///     Point::new(1.0, 0.0, 0.0),
+///     Point::new(0.0, h, 0.0),
+/// );
+/// let s = triangle_sphere(&acute);
+/// assert!((s.radius - 2.0 / h).abs() < 1e-6);
+/// assert!(acute.vertices().iter().all(|p| s.contains_point(p, 0.0)));
+/// ```
 pub fn triangle_sphere(t: &Triangle) -> Sphere {
     let p = [wide(&t.a), wide(&t.b), wide(&t.c)];
     let center = min_ball_3(&p);
@@ -176,7 +225,29 @@ fn ball_4(a: &V, b: &V, c: &V, d: &V) -> Ball {
 
 /// The minimal enclosing sphere of a point set (Welzl, iterative form with a
 /// fixed pseudo-random order so results are reproducible). Empty input gives a
-/// zero sphere at the origin.
+/// zero sphere at the origin. The inner spheres of the paper's sphere trees
+/// (§3). Solved in `f64`; the `f32` radius is rounded up so that every point
+/// lies inside.
+///
+/// ```
+/// use cornertree::geometry::enclosing::points_sphere;
+/// use cornertree::geometry::{Point, Sphere};
+///
+/// // The corners of the unit cube, and its centre (which changes nothing).
+/// let mut cube: Vec<Point> = (0..8)
+///     .map(|i| Point::new((i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32))
+///     .collect();
+/// cube.push(Point::new(0.5, 0.5, 0.5));
+/// let s = points_sphere(&cube);
+/// assert!((s.center - Point::new(0.5, 0.5, 0.5)).norm() < 1e-6);
+/// assert!((s.radius - 3f32.sqrt() / 2.0).abs() < 1e-6); // half the diagonal
+/// assert!(cube.iter().all(|p| s.contains_point(p, 0.0)));
+///
+/// // Two points: the sphere on their segment.
+/// let pair = [Point::new(-3.0, 0.0, 0.0), Point::new(3.0, 0.0, 0.0)];
+/// assert_eq!(points_sphere(&pair), Sphere::new(Point::origin(), 3.0));
+/// assert_eq!(points_sphere(&[]), Sphere::new(Point::origin(), 0.0));
+/// ```
 pub fn points_sphere(points: &[Point]) -> Sphere {
     if points.is_empty() {
         return Sphere::new(Point::origin(), 0.0);
@@ -225,7 +296,25 @@ fn shuffle(v: &mut [V]) {
 
 /// The paper's enclosing sphere of spheres (§3, sphere update): centre at the
 /// mean of the centres, radius `max_i(‖c_u − c_i‖ + r_i)`. Not minimal, but
-/// cheap and containing every input. Empty input gives a zero sphere.
+/// cheap and containing every input. Empty input gives a zero sphere. The
+/// radius is rounded up to `f32`.
+///
+/// ```
+/// use cornertree::geometry::enclosing::spheres_sphere_paper;
+/// use cornertree::geometry::{Point, Sphere};
+///
+/// let a = Sphere::new(Point::new(-2.0, 0.0, 0.0), 1.0);
+/// let b = Sphere::new(Point::new(2.0, 0.0, 0.0), 1.0);
+/// assert_eq!(spheres_sphere_paper(&[a, b]), Sphere::new(Point::origin(), 3.0));
+///
+/// // Not minimal: the big sphere alone would hold both (radius 3), but the
+/// // centre goes to the mean, (1, 0, 0), and the radius to 1 + 3.
+/// let big = Sphere::new(Point::origin(), 3.0);
+/// let small = Sphere::new(Point::new(2.0, 0.0, 0.0), 0.5);
+/// let u = spheres_sphere_paper(&[big, small]);
+/// assert_eq!(u, Sphere::new(Point::new(1.0, 0.0, 0.0), 4.0));
+/// assert!(u.contains_sphere(&big, 0.0) && u.contains_sphere(&small, 0.0));
+/// ```
 pub fn spheres_sphere_paper(spheres: &[Sphere]) -> Sphere {
     if spheres.is_empty() {
         return Sphere::new(Point::origin(), 0.0);

@@ -72,11 +72,32 @@ fn sign(x: f64) -> i8 {
 
 /// Sign of `det[b - a, c - a, d - a]`: positive when `d` lies on the side the
 /// normal `(b - a) × (c - a)` points to. (`robust::orient3d` has the opposite sign.)
+/// Exact for every finite input: `0` means exactly coplanar.
+///
+/// ```
+/// use cornertree::geometry::exact::orient3;
+///
+/// let (o, x, y) = ([0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// assert_eq!(orient3(o, x, y, [0.0, 0.0, 1.0]), 1); // above z = 0, normal +z
+/// assert_eq!(orient3(o, y, x, [0.0, 0.0, 1.0]), -1); // corners swapped
+/// assert_eq!(orient3(o, x, y, [3.0, -2.0, 0.0]), 0); // in the plane
+/// // Off the plane by 1e-300: still decided, no epsilon.
+/// assert_eq!(orient3(o, x, y, [0.3, 0.7, -1e-300]), -1);
+/// ```
 pub fn orient3(a: P3, b: P3, c: P3, d: P3) -> i8 {
     -sign(orient3d(c3(a), c3(b), c3(c), c3(d)))
 }
 
-/// Sign of the 2D orientation of `(a, b, c)`: positive for counter-clockwise.
+/// Sign of the 2D orientation of `(a, b, c)`: positive for counter-clockwise,
+/// zero exactly when collinear.
+///
+/// ```
+/// use cornertree::geometry::exact::orient2;
+///
+/// assert_eq!(orient2([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]), 1);
+/// assert_eq!(orient2([0.0, 0.0], [0.0, 1.0], [1.0, 0.0]), -1);
+/// assert_eq!(orient2([0.0, 0.0], [1.0, 1.0], [3.0, 3.0]), 0);
+/// ```
 pub fn orient2(a: P2, b: P2, c: P2) -> i8 {
     let c2 = |p: P2| Coord { x: p[0], y: p[1] };
     sign(orient2d(c2(a), c2(b), c2(c)))
@@ -188,11 +209,47 @@ fn closed_intersect(a: &[P3; 3], b: &[P3; 3], deg_a: bool, deg_b: bool) -> bool 
 
 /// [`triangles_intersect_exact`] on `f64` corners (the same predicates,
 /// exact for every finite `f64` input): sub-steps of a continuous step.
+///
+/// ```
+/// use cornertree::geometry::exact::corners_intersect_exact;
+///
+/// let floor = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// // A corner exactly on the hypotenuse x + y = 1, at coordinates no f32
+/// // holds; the rest of the triangle above the floor.
+/// let (x, y) = (0.75 + 2f64.powi(-40), 0.25 - 2f64.powi(-40));
+/// let on_edge = [[x, y, 0.0], [x, y, 1.0], [2.0, 2.0, 1.0]];
+/// assert!(corners_intersect_exact(&floor, &on_edge));
+/// // The next f64 beyond it: apart.
+/// let beyond = [[x, y.next_up(), 0.0], [x, y, 1.0], [2.0, 2.0, 1.0]];
+/// assert!(!corners_intersect_exact(&floor, &beyond));
+/// ```
 pub fn corners_intersect_exact(a: &[[f64; 3]; 3], b: &[[f64; 3]; 3]) -> bool {
     closed_intersect(a, b, is_degenerate(a), is_degenerate(b))
 }
 
-/// Whether the two closed triangles share a point, exactly.
+/// Whether the two closed triangles share a point, exactly (touching
+/// counts; [`classify`] tells touching from overlapping).
+///
+/// ```
+/// use cornertree::geometry::exact::triangles_intersect_exact;
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// // Crossing the floor through (0.25, 0.25, 0).
+/// let piercing = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [-1.0, 0.25, 0.5]);
+/// assert!(triangles_intersect_exact(&floor, &piercing));
+/// // Beyond the hypotenuse.
+/// let beside = tri([0.75, 0.75, -1.0], [0.75, 0.75, 1.0], [2.0, 0.75, 0.5]);
+/// assert!(!triangles_intersect_exact(&floor, &beside));
+/// // A corner on the face, then the smallest f32 step above it.
+/// let resting = tri([0.25, 0.25, 0.0], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+/// let lifted = tri([0.25, 0.25, f32::MIN_POSITIVE], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+/// assert!(triangles_intersect_exact(&floor, &resting));
+/// assert!(!triangles_intersect_exact(&floor, &lifted));
+/// ```
 pub fn triangles_intersect_exact(t1: &Triangle, t2: &Triangle) -> bool {
     classify(t1, t2) != Contact::Disjoint
 }
@@ -215,7 +272,38 @@ fn rotate(t: &[P3; 3], i: usize) -> [P3; 3] {
     [t[i], t[(i + 1) % 3], t[(i + 2) % 3]]
 }
 
-/// Exact classification of a triangle pair.
+/// Exact classification of a triangle pair (see [`Contact`]).
+///
+/// ```
+/// use cornertree::geometry::exact::{Contact, classify};
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// // An edge through the floor's interior: the interiors cross.
+/// let piercing = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [-1.0, 0.25, 0.5]);
+/// assert_eq!(classify(&floor, &piercing), Contact::Overlapping);
+/// // A corner resting on the face: only a boundary point is shared.
+/// let resting = tri([0.25, 0.25, 0.0], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+/// assert_eq!(classify(&floor, &resting), Contact::Touching);
+/// // Each crosses the other's plane, but an edge of one meets the other only
+/// // at the floor's boundary point (0.5, 0.5, 0): touching.
+/// let edge_on_edge = tri([0.75, 0.75, 1.0], [0.25, 0.25, -1.0], [1.75, 1.75, -1.0]);
+/// assert_eq!(classify(&floor, &edge_on_edge), Contact::Touching);
+/// // Coplanar, sharing only the hypotenuse: touching; overlapping: overlapping.
+/// let mirror = tri([1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]);
+/// assert_eq!(classify(&floor, &mirror), Contact::Touching);
+/// let shifted = tri([0.5, 0.0, 0.0], [1.5, 0.0, 0.0], [0.5, 1.0, 0.0]);
+/// assert_eq!(classify(&floor, &shifted), Contact::Overlapping);
+/// // Beyond the hypotenuse.
+/// let beside = tri([0.75, 0.75, -1.0], [0.75, 0.75, 1.0], [2.0, 0.75, 0.5]);
+/// assert_eq!(classify(&floor, &beside), Contact::Disjoint);
+/// // Any contact with a zero-area triangle is touching.
+/// let needle = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [0.25, 0.25, 0.0]);
+/// assert_eq!(classify(&floor, &needle), Contact::Touching);
+/// ```
 pub fn classify(t1: &Triangle, t2: &Triangle) -> Contact {
     let (a, b) = (widen(t1), widen(t2));
     let (deg_a, deg_b) = (is_degenerate(&a), is_degenerate(&b));

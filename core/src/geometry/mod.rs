@@ -32,6 +32,7 @@
 pub mod ccd_edge_edge;
 pub mod ccd_error_bounds;
 pub mod ccd_param_box;
+pub mod ccd_params;
 pub mod ccd_root_finder;
 pub mod ccd_sphere_plane;
 pub mod ccd_sphere_sphere;
@@ -47,6 +48,7 @@ pub mod exact;
 pub mod plane_sphere;
 pub mod scalar;
 pub mod sphere;
+pub mod sphere_sweep;
 pub mod tri_tri;
 pub mod triangle;
 pub mod triangle_prism;
@@ -64,6 +66,14 @@ pub type Point = nalgebra::Point3<Real>;
 pub type Vector = nalgebra::Vector3<Real>;
 
 /// Axis-aligned extent `(min, max)` of `points`; `None` when there are none.
+///
+/// ```
+/// use cornertree::geometry::{Point, bounds_of};
+///
+/// let b = bounds_of([Point::new(1.0, -2.0, 0.0), Point::new(-1.0, 3.0, 0.5)]);
+/// assert_eq!(b, Some((Point::new(-1.0, -2.0, 0.0), Point::new(1.0, 3.0, 0.5))));
+/// assert_eq!(bounds_of([]), None);
+/// ```
 pub fn bounds_of(points: impl IntoIterator<Item = Point>) -> Option<(Point, Point)> {
     let mut it = points.into_iter();
     let first = it.next()?;

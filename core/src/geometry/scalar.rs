@@ -15,6 +15,22 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A real number type: the four operations, negation, `abs`, `sqrt` and
 /// comparisons.
+///
+/// A kernel written once over `Scalar` runs in `f64` and, with
+/// [`Counted`](super::counted::Counted), counts what it pays:
+///
+/// ```
+/// use cornertree::geometry::counted::{Counted, count_operations};
+/// use cornertree::geometry::scalar::Scalar;
+///
+/// fn hypot<T: Scalar>(a: T, b: T) -> T {
+///     (a * a + b * b).sqrt()
+/// }
+///
+/// assert_eq!(hypot(3.0f64, 4.0), 5.0);
+/// let (r, n) = count_operations(|| hypot(Counted::from_f64(3.0), Counted::from_f64(4.0)));
+/// assert_eq!((r.to_f64(), n), (5.0, 4)); // two products, a sum, a root
+/// ```
 pub trait Scalar:
     Copy
     + PartialOrd
@@ -24,12 +40,17 @@ pub trait Scalar:
     + Div<Output = Self>
     + Neg<Output = Self>
 {
+    /// Zero (free).
     fn zero() -> Self;
+    /// An `f32` value, widened exactly (free).
     fn from_f32(x: f32) -> Self;
+    /// An `f64` value (free; rounded to the nearest value for a narrower type).
     fn from_f64(x: f64) -> Self;
     /// The value as `f64` (free; for reports and tests).
     fn to_f64(self) -> f64;
+    /// Magnitude (one operation).
     fn abs(self) -> Self;
+    /// Square root (one operation).
     fn sqrt(self) -> Self;
 
     /// The smaller of two values (one comparison); `b` when they compare equal.

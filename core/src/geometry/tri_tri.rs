@@ -17,10 +17,44 @@
 //!
 //! Both give the same answers as the exact oracle except on pairs that touch
 //! (`tests/tri_tri_agreement.rs`); the operation model (§6) charges either 96.
+//!
+//! Closed triangles, `f32` corners, `f64` arithmetic inside: touching counts.
+//!
+//! ```
+//! use cornertree::geometry::tri_tri::{Prepared, prepared_intersect, triangles_intersect};
+//! use cornertree::geometry::{Point, Triangle};
+//!
+//! let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+//!     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+//! };
+//! // The unit right triangle in the plane z = 0.
+//! let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+//! // A triangle in the plane x = y whose vertical edge pierces the floor at
+//! // (0.25, 0.25, 0): they cross along the segment (0.25, 0.25, 0)–(0.5, 0.5, 0).
+//! let piercing = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [2.0, 2.0, 0.0]);
+//! assert!(triangles_intersect(&floor, &piercing));
+//! assert!(triangles_intersect(&piercing, &floor));
+//! // The same triangle moved along the floor to x = y = 0.75: it crosses the
+//! // floor's plane on x + y ≥ 1.5, beyond the hypotenuse x + y = 1.
+//! let beside = tri([0.75, 0.75, -1.0], [0.75, 0.75, 1.0], [2.0, 2.0, 0.0]);
+//! assert!(!triangles_intersect(&floor, &beside));
+//! // A corner resting exactly on the floor's face: touching counts.
+//! let resting = tri([0.25, 0.25, 0.0], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+//! assert!(triangles_intersect(&floor, &resting));
+//! // Lifted by 0.001: apart.
+//! let lifted = tri([0.25, 0.25, 0.001], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+//! assert!(!triangles_intersect(&floor, &lifted));
+//!
+//! // Prepared once each, the same answers.
+//! let f = Prepared::<f64>::new(&floor);
+//! for (other, meets) in [(piercing, true), (beside, false), (resting, true), (lifted, false)] {
+//!     assert_eq!(prepared_intersect(&f, &Prepared::new(&other)), meets);
+//! }
+//! ```
 
 pub use super::tropp::triangles_intersect;
-/// The same test on triangles prepared once each
-/// ([`crate::pipeline::prepared_triangles`]).
+/// The same test on triangles prepared once each (as the pipeline's narrow
+/// phase does for a triangle that meets several others).
 pub use super::tropp::{Prepared, prepared_intersect};
 
 /// The name of the kernel behind [`triangles_intersect`], as

@@ -20,6 +20,32 @@ use super::{Sphere, Triangle};
 const MARGIN: f64 = 1e-9;
 
 /// The three inward edge planes of a triangle, prepared once.
+///
+/// ```
+/// use cornertree::geometry::triangle_prism::TrianglePrism;
+/// use cornertree::geometry::{Point, Sphere, Triangle};
+///
+/// let floor = Triangle::new(
+///     Point::new(0.0, 0.0, 0.0),
+///     Point::new(1.0, 0.0, 0.0),
+///     Point::new(0.0, 1.0, 0.0),
+/// );
+/// let prism = TrianglePrism::new(&floor);
+/// // A unit ball touching the edge x = 0 from outside: may meet (closed).
+/// assert!(prism.may_meet(&Sphere::new(Point::new(-1.0, 0.5, 0.0), 1.0)));
+/// // Moved 0.01 further out: surely holds no point of the triangle.
+/// assert!(!prism.may_meet(&Sphere::new(Point::new(-1.01, 0.5, 0.0), 1.0)));
+/// // Beyond the hypotenuse x + y = 1 by 2/√2 ≈ 1.41 with radius 1: rejected.
+/// assert!(!prism.may_meet(&Sphere::new(Point::new(1.5, 1.5, 0.0), 1.0)));
+/// // Conservative: high above the face it passes (the prism is infinite),
+/// // though the ball misses the triangle.
+/// assert!(prism.may_meet(&Sphere::new(Point::new(0.25, 0.25, 10.0), 1.0)));
+///
+/// // A degenerate triangle rejects nothing.
+/// let segment = Triangle::new(floor.a, floor.b, Point::new(2.0, 0.0, 0.0));
+/// let far = Sphere::new(Point::new(100.0, 100.0, 100.0), 1.0);
+/// assert!(TrianglePrism::new(&segment).may_meet(&far));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrianglePrism {
     /// Unit inward normals (zero for a degenerate triangle) and offsets:
@@ -29,6 +55,8 @@ pub struct TrianglePrism {
 }
 
 impl TrianglePrism {
+    /// The prism of `t`: for each edge, the plane through it perpendicular to
+    /// the triangle, facing inward (computed in `f64`).
     pub fn new(t: &Triangle) -> Self {
         let v = [t.a, t.b, t.c].map(|p| p.coords.map(|x| x as f64));
         let n = (v[1] - v[0]).cross(&(v[2] - v[0]));

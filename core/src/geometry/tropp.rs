@@ -81,12 +81,59 @@ use super::coplanar_degenerate::{
 use super::scalar::Scalar;
 use super::vec3::{V3, cross, dot, is_zero, sub, widen_triangle};
 
-/// Whether two closed triangles share a point (`f64` arithmetic).
+/// Whether two closed triangles share a point (`f64` arithmetic from the
+/// `f32` corners; touching counts).
+///
+/// ```
+/// use cornertree::geometry::tropp::triangles_intersect;
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// // An edge along z through (0.25, 0.25, 0), inside the floor.
+/// let piercing = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [-1.0, 0.25, 0.5]);
+/// assert!(triangles_intersect(&floor, &piercing) && triangles_intersect(&piercing, &floor));
+/// // The same edge through (0.75, 0.75, 0), beyond the hypotenuse.
+/// let beside = tri([0.75, 0.75, -1.0], [0.75, 0.75, 1.0], [2.0, 0.75, 0.5]);
+/// assert!(!triangles_intersect(&floor, &beside) && !triangles_intersect(&beside, &floor));
+/// // Edge on edge: a triangle standing on the floor's edge y = 0,
+/// // touching it along (0.25, 0, 0)–(0.75, 0, 0).
+/// let standing = tri([0.25, 0.0, 0.0], [0.75, 0.0, 0.0], [0.5, -0.5, 1.0]);
+/// assert!(triangles_intersect(&floor, &standing) && triangles_intersect(&standing, &floor));
+/// // Coplanar, overlapping, and coplanar, apart.
+/// let overlapping = tri([0.5, 0.5, 0.0], [-0.5, 0.5, 0.0], [0.5, -0.5, 0.0]);
+/// let apart = tri([1.0, 1.0, 0.0], [2.0, 1.0, 0.0], [1.0, 2.0, 0.0]);
+/// assert!(triangles_intersect(&floor, &overlapping));
+/// assert!(!triangles_intersect(&floor, &apart));
+/// ```
 pub fn triangles_intersect(t1: &Triangle, t2: &Triangle) -> bool {
     triangles_intersect_as::<f64>(t1, t2)
 }
 
-/// [`triangles_intersect`] computed in `T`.
+/// [`triangles_intersect`] computed in `T`: with
+/// [`Counted`](super::counted::Counted), the operations this input pays
+/// (an early exit pays less than a full test).
+///
+/// ```
+/// use cornertree::geometry::counted::{Counted, count_operations};
+/// use cornertree::geometry::tropp::{triangles_intersect, triangles_intersect_as};
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// let piercing = tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [-1.0, 0.25, 0.5]);
+/// let above = tri([0.25, 0.25, 0.5], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]);
+/// let (hit, full) = count_operations(|| triangles_intersect_as::<Counted>(&floor, &piercing));
+/// let (miss, exit) = count_operations(|| triangles_intersect_as::<Counted>(&floor, &above));
+/// assert!(hit && !miss);
+/// assert_eq!(hit, triangles_intersect(&floor, &piercing));
+/// // `above` lies on one side of the floor's plane: the plane-side exit.
+/// assert!(exit < full, "{exit} < {full}");
+/// ```
 pub fn triangles_intersect_as<T: Scalar>(t1: &Triangle, t2: &Triangle) -> bool {
     prepared_intersect(&Prepared::<T>::new(t1), &Prepared::<T>::new(t2))
 }
@@ -100,6 +147,25 @@ pub fn triangles_intersect_as<T: Scalar>(t1: &Triangle, t2: &Triangle) -> bool {
 /// each once; [`prepared_intersect`] on two prepared triangles is the very
 /// arithmetic of [`triangles_intersect_as`], which prepares both, so the
 /// answers are the same bit for bit.
+///
+/// ```
+/// use cornertree::geometry::tropp::{Prepared, prepared_intersect, triangles_intersect};
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+/// let others = [
+///     tri([0.25, 0.25, -1.0], [0.25, 0.25, 1.0], [-1.0, 0.25, 0.5]), // piercing
+///     tri([0.75, 0.75, -1.0], [0.75, 0.75, 1.0], [2.0, 0.75, 0.5]),  // beside
+///     tri([0.25, 0.25, 0.0], [0.75, 0.25, 1.0], [0.25, 0.75, 1.0]),  // resting on it
+/// ];
+/// let floor_once = Prepared::<f64>::new(&floor);
+/// let answers = others.map(|t| prepared_intersect(&floor_once, &Prepared::new(&t)));
+/// assert_eq!(answers, [true, false, true]);
+/// assert_eq!(answers, others.map(|t| triangles_intersect(&floor, &t)));
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Prepared<T> {
     p: [V3<T>; 3],
@@ -111,6 +177,8 @@ pub struct Prepared<T> {
 }
 
 impl<T: Scalar> Prepared<T> {
+    /// Prepares `t` in `T`: corners, edges from the first corner, normal,
+    /// whether the corners are collinear, and the snapping scale.
     #[inline(always)]
     pub fn new(t: &Triangle) -> Self {
         let p = widen_triangle::<T>(t);
@@ -132,6 +200,22 @@ impl<T: Scalar> Prepared<T> {
 
 /// Whether the closed triangles `a` and `b` share a point
 /// ([`triangles_intersect_as`] on prepared triangles).
+///
+/// ```
+/// use cornertree::geometry::tropp::{Prepared, prepared_intersect};
+/// use cornertree::geometry::{Point, Triangle};
+///
+/// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+/// };
+/// let floor = Prepared::<f64>::new(&tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]));
+/// // Zero-area triangles are the segments they span: a vertical segment
+/// // through (0.5, 0.25, 0) meets the floor, the one through (0.5, 0.75, 0) does not.
+/// let inside = Prepared::new(&tri([0.5, 0.25, -1.0], [0.5, 0.25, 1.0], [0.5, 0.25, 0.0]));
+/// let outside = Prepared::new(&tri([0.5, 0.75, -1.0], [0.5, 0.75, 1.0], [0.5, 0.75, 0.0]));
+/// assert!(prepared_intersect(&floor, &inside) && prepared_intersect(&inside, &floor));
+/// assert!(!prepared_intersect(&floor, &outside) && !prepared_intersect(&outside, &floor));
+/// ```
 #[inline]
 pub fn prepared_intersect<T: Scalar>(a: &Prepared<T>, b: &Prepared<T>) -> bool {
     match (a.flat, b.flat) {

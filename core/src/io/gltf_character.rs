@@ -9,7 +9,7 @@
 //!   triangle primitives are concatenated into one [`TriMesh`] with positions
 //!   as stored (bind space: the spec says the skinned node's own transform is
 //!   ignored), or moved into the bind space of their joints' first skin when
-//!   their skin's inverse bind matrices differ ([`super::gltf_bind`]). A
+//!   their skin's inverse bind matrices differ (module `gltf_bind`). A
 //!   mesh node without a skin at or below a joint (a prop in a hand) is bound
 //!   wholly to that joint, placed by the node transforms from the joint down
 //!   ([`LoadReport::attached_meshes`]); other meshes without a skin are left
@@ -31,7 +31,7 @@
 //!   absent) and must be finite and affine; fewer than joints is an error,
 //!   extra ones are noted. A joint takes the matrices of the first skin that
 //!   lists it; where another skin's differ and its vertices cannot be moved,
-//!   the joint gets added slots that follow it ([`super::gltf_bind`],
+//!   the joint gets added slots that follow it (module `gltf_bind`,
 //!   [`LoadReport::added_joint_slots`]). The base is the world transform of
 //!   the root joints' parent node (identity for a scene root); root joints
 //!   whose parents have different world transforms are an error. Errors about

@@ -49,7 +49,9 @@ use crate::mesh::{MeshError, TriMesh};
 /// A mesh of the file: index, and name if it has one.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MeshRef {
+    /// Index in the file's `meshes`.
     pub index: usize,
+    /// The mesh's `name`, if the file gives one.
     pub name: Option<String>,
 }
 
@@ -76,60 +78,115 @@ impl fmt::Display for MeshRef {
 /// the file's path.
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
+    /// The file could not be opened or read.
     #[error("{}: cannot read file: {error}", .path.display())]
     Io {
+        /// The file.
         path: PathBuf,
+        /// The operating system's error.
         error: std::io::Error,
     },
 
+    /// The bytes are neither a GLB container nor glTF JSON, or the asset
+    /// version is not 2.x.
     #[error("{}: not a glTF 2.0 file: {reason}", .path.display())]
-    NotGltf { path: PathBuf, reason: String },
+    NotGltf {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, on one line.
+        reason: String,
+    },
 
+    /// The file lists extensions in `extensionsRequired`; none is supported.
     #[error(
         "{}: requires unsupported glTF extension(s) {}; only core glTF 2.0 can be read",
         .path.display(), .extensions.join(", ")
     )]
     UnsupportedExtension {
+        /// The file.
         path: PathBuf,
+        /// The required extensions' names.
         extensions: Vec<String>,
     },
 
+    /// The document fails glTF validation (a dangling index, a missing or
+    /// wrongly typed property).
     #[error("{}: invalid glTF: {reason}", .path.display())]
-    Invalid { path: PathBuf, reason: String },
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// The first few validation errors, with their JSON paths.
+        reason: String,
+    },
 
+    /// A buffer's bytes cannot be had: missing GLB chunk, bad data URI,
+    /// unreadable external file, or fewer bytes than declared.
     #[error("{}: buffer {buffer}: {reason}", .path.display())]
     Buffer {
+        /// The file.
         path: PathBuf,
+        /// Index in the file's `buffers`.
         buffer: usize,
+        /// What is wrong, on one line.
         reason: String,
     },
 
+    /// The nodes do not form a forest: a node is reached twice (it has two
+    /// parents, lies on a cycle, or is listed twice as a root).
     #[error("{}: node hierarchy is not a forest: node {node} is reached twice", .path.display())]
-    NodeGraph { path: PathBuf, node: usize },
+    NodeGraph {
+        /// The file.
+        path: PathBuf,
+        /// Index of the node reached twice.
+        node: usize,
+    },
 
+    /// A node cannot be used: a non-finite or unnormalisable local transform,
+    /// or (character loading) a vertex out of range in its joint's frame.
     #[error("{}: node {node}: {reason}", .path.display())]
     Node {
+        /// The file.
         path: PathBuf,
+        /// Index in the file's `nodes`.
         node: usize,
+        /// What is wrong, on one line.
         reason: String,
     },
 
+    /// Loading would go past [`LoadLimits::max_bytes`].
     #[error("{}: {reason}", .path.display())]
-    Limit { path: PathBuf, reason: String },
+    Limit {
+        /// The file.
+        path: PathBuf,
+        /// What was being charged and by how much it goes over.
+        reason: String,
+    },
 
+    /// A triangle primitive has no `POSITION` attribute.
     #[error("{}: mesh {mesh} primitive {primitive} has no POSITION attribute", .path.display())]
     MissingPosition {
+        /// The file.
         path: PathBuf,
+        /// The primitive's mesh.
         mesh: MeshRef,
+        /// Index of the primitive in its mesh.
         primitive: usize,
     },
 
+    /// An accessor of a primitive cannot be read: a type the loader does not
+    /// take, data outside its buffer, a non-finite float, or decoding it would
+    /// go past the byte budget.
     #[error("{}: mesh {mesh} primitive {primitive}: accessor {accessor}: {reason}", .path.display())]
     Accessor {
+        /// The file.
         path: PathBuf,
+        /// The primitive's mesh.
         mesh: MeshRef,
+        /// Index of the primitive in its mesh.
         primitive: usize,
+        /// Index in the file's `accessors`.
         accessor: usize,
+        /// What is wrong, on one line.
         reason: String,
     },
 
@@ -137,13 +194,21 @@ pub enum LoadError {
         "{}: mesh {mesh} primitive {primitive}: index {index} (entry {entry} of accessor {accessor}) is out of range; the primitive has {vertex_count} vertices",
         .path.display()
     )]
+    /// A primitive's index names a vertex past the end of its `POSITION` accessor.
     IndexOutOfRange {
+        /// The file.
         path: PathBuf,
+        /// The primitive's mesh.
         mesh: MeshRef,
+        /// Index of the primitive in its mesh.
         primitive: usize,
+        /// The indices accessor.
         accessor: usize,
+        /// Position of the bad index in that accessor.
         entry: usize,
+        /// The index read.
         index: u32,
+        /// Number of vertices in the primitive's `POSITION` accessor.
         vertex_count: usize,
     },
 
@@ -151,29 +216,52 @@ pub enum LoadError {
         "{}: mesh {mesh} primitive {primitive}: accessor {accessor}: vertex {vertex} has a non-finite or out-of-range position ({x}, {y}, {z}); coordinates must be finite and at most {MAX_COORDINATE:e} in magnitude",
         .path.display()
     )]
+    /// A stored vertex position is non-finite or beyond [`MAX_COORDINATE`].
     NonFinitePosition {
+        /// The file.
         path: PathBuf,
+        /// The primitive's mesh.
         mesh: MeshRef,
+        /// Index of the primitive in its mesh.
         primitive: usize,
+        /// The `POSITION` accessor.
         accessor: usize,
+        /// Index of the vertex in that accessor.
         vertex: usize,
+        /// Its stored x coordinate.
         x: f32,
+        /// Its stored y coordinate.
         y: f32,
+        /// Its stored z coordinate.
         z: f32,
     },
 
+    /// The world transform composed down to a mesh's node is not finite
+    /// (every local transform is, but their product overflows).
     #[error("{}: node {node} has a non-finite world transform", .path.display())]
-    NonFiniteTransform { path: PathBuf, node: usize },
+    NonFiniteTransform {
+        /// The file.
+        path: PathBuf,
+        /// Index of the node placing the mesh.
+        node: usize,
+    },
 
     #[error(
         "{}: node {node}, mesh {mesh} primitive {primitive}: vertex {vertex} is non-finite or beyond {MAX_COORDINATE:e} in magnitude after the node's world transform",
         .path.display()
     )]
+    /// A vertex is non-finite or beyond [`MAX_COORDINATE`] once its node's
+    /// world transform is applied.
     NonFiniteWorldPosition {
+        /// The file.
         path: PathBuf,
+        /// Index of the node placing the mesh.
         node: usize,
+        /// The primitive's mesh.
         mesh: MeshRef,
+        /// Index of the primitive in its mesh.
         primitive: usize,
+        /// Index of the vertex in the primitive's `POSITION` accessor.
         vertex: usize,
     },
 
@@ -181,44 +269,79 @@ pub enum LoadError {
         "{}: no triangles in the scene ({primitives} triangle primitive(s) loaded, {skipped} non-triangle primitive(s) skipped)",
         .path.display()
     )]
+    /// Nothing loaded holds a triangle.
     NoTriangles {
+        /// The file.
         path: PathBuf,
+        /// Triangle primitives loaded (all without triangles).
         primitives: usize,
+        /// Primitives skipped because they are not triangles.
         skipped: usize,
     },
 
+    /// The loaded vertices would not fit `u32` indices.
     #[error("{}: the scene has more than 2^32 - 1 vertices", .path.display())]
-    TooLarge { path: PathBuf },
+    TooLarge {
+        /// The file.
+        path: PathBuf,
+    },
 
+    /// The assembled mesh is rejected by [`TriMesh::new`].
     #[error("{}: {error}", .path.display())]
-    Mesh { path: PathBuf, error: MeshError },
+    Mesh {
+        /// The file.
+        path: PathBuf,
+        /// Why the mesh was rejected.
+        error: MeshError,
+    },
 
     #[error(
         "{}: no skin: the scene has no node with both a mesh and a skin, so there is no character to load",
         .path.display()
     )]
-    NoSkin { path: PathBuf },
+    /// Character loading: no node of the scene has both a mesh and a skin.
+    NoSkin {
+        /// The file.
+        path: PathBuf,
+    },
 
+    /// A skin cannot make a skeleton: bad joint list, inverse bind matrices
+    /// or joint transforms, or skins that cannot merge into one skeleton.
     #[error("{}: skin {skin}: {reason}", .path.display())]
     Skin {
+        /// The file.
         path: PathBuf,
+        /// Index in the file's `skins`.
         skin: usize,
+        /// What is wrong, on one line.
         reason: String,
     },
 
+    /// A skinned primitive's `JOINTS_n`/`WEIGHTS_n` are missing, unpaired or
+    /// out of range, or its weights do not sum to a positive number.
     #[error("{}: mesh {mesh} primitive {primitive}: {reason}", .path.display())]
     Skinning {
+        /// The file.
         path: PathBuf,
+        /// The primitive's mesh.
         mesh: MeshRef,
+        /// Index of the primitive in its mesh.
         primitive: usize,
+        /// What is wrong, on one line.
         reason: String,
     },
 
+    /// An animation channel cannot be converted to a clip channel: bad
+    /// target, sampler, keyframe times or values.
     #[error("{}: animation {animation} channel {channel}: {reason}", .path.display())]
     Animation {
+        /// The file.
         path: PathBuf,
+        /// Index in the file's `animations`.
         animation: usize,
+        /// Index of the channel in that animation.
         channel: usize,
+        /// What is wrong, on one line.
         reason: String,
     },
 }
@@ -257,7 +380,9 @@ impl LoadError {
 pub struct SkippedPrimitive {
     /// The node that places the mesh.
     pub node: usize,
+    /// The primitive's mesh.
     pub mesh: MeshRef,
+    /// Index of the primitive in its mesh.
     pub primitive: usize,
     /// `POINTS`, `LINES`, `LINE_LOOP` or `LINE_STRIP`.
     pub mode: &'static str,
@@ -288,7 +413,9 @@ pub struct LoadReport {
     pub skinned_instances: usize,
     /// Triangle primitives loaded (counted per instance).
     pub primitives: usize,
+    /// Vertices in the loaded mesh.
     pub vertices: usize,
+    /// Triangles in the loaded mesh.
     pub triangles: usize,
     /// Strip/fan triangles dropped because they repeat an index.
     pub degenerate_dropped: usize,
@@ -320,20 +447,26 @@ pub struct LoadReport {
 pub struct AttachedMesh {
     /// The mesh's node.
     pub node: usize,
+    /// Index in the file's `meshes`.
     pub mesh: usize,
     /// The joint's node and name.
     pub joint_node: usize,
+    /// The joint's name (see [`joint_node`](Self::joint_node)).
     pub joint: String,
 }
 
 /// An animation channel the character loader did not convert, and why.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SkippedChannel {
+    /// Index in the file's `animations`.
     pub animation: usize,
+    /// Index of the channel in that animation.
     pub channel: usize,
+    /// The node the channel targets.
     pub node: usize,
     /// `translation`, `rotation`, `scale` or `weights`.
     pub property: &'static str,
+    /// Why it was skipped.
     pub reason: String,
 }
 

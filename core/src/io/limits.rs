@@ -5,7 +5,7 @@
 //! mesh is instanced, how many channels share a keyframe accessor) is read
 //! from the file, so a damaged or hostile file could ask for any amount of
 //! memory and time. The loaders charge each allocation derived from the file
-//! to a [`Budget`] *before* making it; past [`LoadLimits::max_bytes`] the
+//! to a byte budget *before* making it; past [`LoadLimits::max_bytes`] the
 //! load is refused with the value that drove it. Decoding is linear in what
 //! is charged, so the budget bounds the loading time too.
 
@@ -17,6 +17,12 @@ use std::cell::Cell;
 /// million kilometres in metres, a thousand in millimetres. It keeps squared
 /// distances and the triangle kernels' cubic terms far inside `f32` range.
 pub const MAX_COORDINATE: f32 = 1.0e9;
+
+/// Whether a length is a number no larger than [`MAX_COORDINATE`] (NaN is
+/// not).
+pub fn within_range(length: f32) -> bool {
+    length.is_finite() && length <= MAX_COORDINATE
+}
 
 /// One GiB.
 const GIB: usize = 1 << 30;

@@ -4,8 +4,8 @@
 //! | file | what |
 //! |---|---|
 //! | [`limits`] | [`LoadLimits`]: the byte budget a file may make the loaders allocate; the coordinate range accepted |
-//! | [`gltf_static`] | every triangle of a glTF/GLB scene in its static pose, world space (feature `gltf`) |
-//! | [`gltf_character`] | the skinned character of a glTF/GLB scene: skeleton, bind-pose mesh, influences, clips (feature `gltf`) |
+//! | `gltf_static` | every triangle of a glTF/GLB scene in its static pose, world space (feature `gltf`) |
+//! | `gltf_character` | the skinned character of a glTF/GLB scene: skeleton, bind-pose mesh, influences, clips (feature `gltf`) |
 //! | `gltf_bind` | how a character's meshes bind to its one skeleton: several skins (joint slots, bind spaces), rigid meshes below a joint (private) |
 //! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by both loaders) |
 

@@ -41,14 +41,17 @@ impl EdgeDedup {
         }
     }
 
+    /// Whether triangle `id` takes part in collision detection.
     pub fn is_kept(&self, id: TriangleId) -> bool {
         self.kept[id.index()]
     }
 
+    /// Number of triangles kept.
     pub fn kept_count(&self) -> usize {
         self.kept_count
     }
 
+    /// Number of triangles left out.
     pub fn dropped_count(&self) -> usize {
         self.kept.len() - self.kept_count
     }
@@ -62,10 +65,12 @@ impl EdgeDedup {
         }
     }
 
+    /// The kept triangles, in index order.
     pub fn kept(&self) -> impl Iterator<Item = TriangleId> + '_ {
         self.ids(true)
     }
 
+    /// The triangles left out, in index order.
     pub fn dropped(&self) -> impl Iterator<Item = TriangleId> + '_ {
         self.ids(false)
     }

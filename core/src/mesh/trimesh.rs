@@ -7,6 +7,7 @@ use crate::geometry::{Point, Triangle};
 pub struct TriangleId(pub u32);
 
 impl TriangleId {
+    /// The id as an index into the mesh's triangle list.
     #[inline]
     pub fn index(self) -> usize {
         self.0 as usize
@@ -16,23 +17,34 @@ impl TriangleId {
 /// Why a set of positions and indices is not a usable mesh.
 #[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
+    /// The triangle list is empty.
     #[error("mesh has no triangles")]
     NoTriangles,
+    /// A vertex position has a NaN or infinite coordinate.
     #[error("vertex {vertex} has a non-finite position ({x}, {y}, {z})")]
     NonFinitePosition {
+        /// Index of the offending vertex.
         vertex: usize,
+        /// Its x coordinate.
         x: f32,
+        /// Its y coordinate.
         y: f32,
+        /// Its z coordinate.
         z: f32,
     },
+    /// A triangle names a vertex past the end of the positions.
     #[error(
         "triangle {triangle} refers to vertex {index}, but there are only {vertex_count} vertices"
     )]
     IndexOutOfRange {
+        /// Index of the offending triangle.
         triangle: usize,
+        /// The vertex index it names.
         index: u32,
+        /// How many positions there are.
         vertex_count: usize,
     },
+    /// More triangles than a [`TriangleId`] can number (the count is given).
     #[error("mesh has {0} triangles; at most 2^32 - 1 are supported")]
     TooManyTriangles(usize),
 }
@@ -81,6 +93,7 @@ impl TriMesh {
         })
     }
 
+    /// Vertex positions, indexed by the entries of [`TriMesh::indices`].
     pub fn positions(&self) -> &[Point] {
         &self.positions
     }
@@ -90,14 +103,17 @@ impl TriMesh {
         &mut self.positions
     }
 
+    /// The three vertex indices of every triangle, indexed by [`TriangleId`].
     pub fn indices(&self) -> &[[u32; 3]] {
         &self.triangles
     }
 
+    /// Number of vertices (positions), used by a triangle or not.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
     }
 
+    /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
     }

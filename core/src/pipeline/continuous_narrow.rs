@@ -42,6 +42,7 @@ pub struct CcdCounters {
 }
 
 impl CcdCounters {
+    /// Adds `o`'s counts to these.
     pub fn add(&mut self, o: &CcdCounters) {
         self.plane_side_skips += o.plane_side_skips;
         self.at_start += o.at_start;
@@ -56,9 +57,16 @@ impl CcdCounters {
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct TimedPair {
+    /// The first side's triangle (a character's), as a mesh index.
     pub a: u32,
+    /// The other side's triangle (the room's, an object's or the second
+    /// character's); the big triangle itself where a plane test answered.
     pub b: u32,
+    /// A lower bound of the time of impact, as a fraction of the step in
+    /// `[0, 1]` (0 at its start).
     pub toi: f64,
+    /// Whether the big triangle's plane (plane-sphere methods), not a
+    /// triangle-triangle test, answered the pair.
     pub by_plane: bool,
 }
 

@@ -44,9 +44,13 @@ impl Threshold {
 /// The environment hierarchy for one method.
 #[derive(Clone, Debug)]
 pub struct EnvironmentTree {
+    /// The method the tree was built for.
     pub method: Method,
     /// Threshold used, in model units.
     pub threshold: Real,
+    /// The hierarchy in the mesh's coordinates, each big triangle's division
+    /// grafted in place of its leaf; every leaf holds a mesh triangle index
+    /// (a division leaf, its big triangle's).
     pub tree: SphereTree,
     /// Divisions of the big triangles (empty for [`Method::Original`]).
     pub divisions: Vec<Division>,
@@ -217,7 +221,7 @@ impl EnvironmentTree {
 
     /// For a leaf of a big triangle's division: the division's index and its
     /// root sphere, which holds the big triangle (the leaf groups of
-    /// [`crate::sphere_tree::grouped`]).
+    /// `sphere_tree::grouped`).
     #[inline]
     pub fn leaf_group(&self, id: NodeId) -> Option<(u32, Sphere)> {
         match self.leaf_division[id.index()] {
@@ -229,7 +233,7 @@ impl EnvironmentTree {
     /// [`Self::plane_guard`] that also drops a sphere lying wholly outside
     /// one of the big triangle's edge planes ([`TrianglePrism`]): it holds no
     /// point of the triangle, so no character triangle under it meets the
-    /// triangle. With [`crate::sphere_tree::grouped`] descents, which test
+    /// triangle. With `sphere_tree::grouped` descents, which test
     /// spheres against a whole division's root sphere, this keeps them to
     /// the big triangle's prism. Each sphere tested counts one plane-sphere
     /// test for the plane and one for the edge planes, if it gets there.
@@ -252,7 +256,7 @@ impl EnvironmentTree {
     }
 
     /// Starts loading what a traversal reads of node `id`: the node and its
-    /// division mark (a hint; see [`crate::prefetch`]).
+    /// division mark (a hint; see `crate::prefetch`).
     #[inline(always)]
     pub fn prefetch(&self, id: NodeId) {
         prefetch_at(self.tree.nodes(), id.index());

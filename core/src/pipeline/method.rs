@@ -14,10 +14,11 @@ use crate::sphere_tree::BuildParams;
 use crate::sphere_tree::refit::RefitRule;
 
 /// The collapse ratio of our methods' character trees
-/// ([`Method::character_build`]): on touching, crowd and handshake the
-/// frame was fastest at 0.6 of the ratios 0.4–0.9 tried, with the living
-/// room level (docs/performance.md, "A wider character tree").
-pub const WIDE_CHARACTER_COLLAPSE: f32 = 0.6;
+/// ([`Method::character_build`], [`BuildParams::WIDE`]): on touching, crowd
+/// and handshake the frame was fastest at 0.6 of the ratios 0.4–0.9 tried,
+/// with the living room level (docs/performance-journal.md, "A wider character
+/// tree").
+pub const WIDE_CHARACTER_COLLAPSE: f32 = BuildParams::WIDE.collapse_ratio;
 
 /// How the environment's big triangles are handled.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -74,7 +75,7 @@ pub enum Method {
     /// planes, as `pruned-tri-tri` descends it against a corner-tree's root.
     /// Those planes, not the corner-tree's spheres, decide which character
     /// spheres go on, so without the corner-tree the same pairs (`original`'s)
-    /// cost fewer tests (docs/performance.md, "Big triangles left whole").
+    /// cost fewer tests (docs/performance-journal.md, "Big triangles left whole").
     UndividedPrunedTriTri,
 }
 
@@ -90,6 +91,7 @@ pub enum LeafTest {
 }
 
 impl Method {
+    /// Every method: the paper's four, then ours.
     pub const ALL: [Method; 8] = [
         Method::Original,
         Method::SphereDivision,
@@ -143,18 +145,19 @@ impl Method {
     }
 
     /// Whether a character sphere meeting several leaves of one big
-    /// triangle's division is descended once ([`crate::sphere_tree::grouped`],
-    /// with the plane and edge-plane guard of
+    /// triangle's division is descended once (`sphere_tree::grouped`, with
+    /// the plane and edge-plane guard of
     /// [`super::EnvironmentTree::plane_prism_guard`]) and a (character
     /// triangle, big triangle) pair reached twice is tested once
-    /// ([`crate::sphere_tree::PassMarks`]); the paper's methods descend and test every
-    /// leaf pair.
+    /// (`sphere_tree::PassMarks`); the paper's methods descend and test
+    /// every leaf pair.
     pub fn tests_each_pair_once(self) -> bool {
         matches!(self, Method::PrunedTriTri | Method::UndividedPrunedTriTri)
     }
 
     /// Whether the character nodes asked for last frame are refit at the
-    /// frame's start, before traversal ([`crate::sphere_tree::refit_ahead`]);
+    /// frame's start, before traversal
+    /// ([`Refitter::refit_ahead`](crate::sphere_tree::refit::Refitter::refit_ahead));
     /// the paper's methods refit on demand only, so their refit counts
     /// stay those of §3.
     pub fn refits_ahead(self) -> bool {
@@ -165,7 +168,7 @@ impl Method {
     /// for the paper's methods, so that their spheres and counts stay §3's;
     /// joint balls ([`RefitRule::JointBalls`]: a ball per joint, moved by
     /// that joint) for ours, whose spheres hug a bent limb
-    /// (docs/performance.md, "Joint balls").
+    /// (docs/performance-journal.md, "Joint balls").
     pub fn refit_rule(self) -> RefitRule {
         match self {
             Method::PrunedTriTri | Method::UndividedPrunedTriTri => RefitRule::JointBalls,
@@ -178,13 +181,11 @@ impl Method {
     /// more than 0.9 of its parent's radius is collapsed into it). Ours
     /// collapse a child over [`WIDE_CHARACTER_COLLAPSE`] of its parent's: a
     /// wider, shallower tree, with fewer inner spheres to refit and test
-    /// on the way down (docs/performance.md, "A wider character tree").
+    /// on the way down (docs/performance-journal.md, "A wider character tree").
     /// The room's tree is built from `paper` for every method.
     pub fn character_build(self, paper: BuildParams) -> BuildParams {
         match self {
-            Method::PrunedTriTri | Method::UndividedPrunedTriTri => BuildParams {
-                collapse_ratio: WIDE_CHARACTER_COLLAPSE,
-            },
+            Method::PrunedTriTri | Method::UndividedPrunedTriTri => BuildParams::WIDE,
             _ => paper,
         }
     }

@@ -20,23 +20,6 @@ pub(crate) struct PairPass<'a> {
     pub(crate) timed: bool,
 }
 
-impl PairPass<'_> {
-    fn traverse_timed<const TIMED: bool>(
-        &mut self,
-        ws: &mut Workspace,
-        leaf_pairs: &mut Vec<LeafPair>,
-    ) -> Traversed {
-        let mut ha = self.a.hierarchy::<TIMED>();
-        let mut hb = self.b.hierarchy::<TIMED>();
-        let stats = traverse(&mut ha, &mut hb, ws, |p| leaf_pairs.push(p));
-        Traversed {
-            stats,
-            refit_ticks: ha.refit_ticks() + hb.refit_ticks(),
-            ..Traversed::default()
-        }
-    }
-}
-
 impl Pass for PairPass<'_> {
     type Hit = (u32, u32);
 
@@ -50,11 +33,18 @@ impl Pass for PairPass<'_> {
         self.timed
     }
 
-    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed {
-        if self.timed {
-            self.traverse_timed::<true>(ws, leaf_pairs)
-        } else {
-            self.traverse_timed::<false>(ws, leaf_pairs)
+    fn traverse<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed {
+        let mut ha = self.a.hierarchy::<TIMED>();
+        let mut hb = self.b.hierarchy::<TIMED>();
+        let stats = traverse(&mut ha, &mut hb, ws, |p| leaf_pairs.push(p));
+        Traversed {
+            stats,
+            refit_ticks: ha.refit_ticks() + hb.refit_ticks(),
+            ..Traversed::default()
         }
     }
 

@@ -90,8 +90,13 @@ pub(crate) trait Pass {
     fn work(&self) -> (u64, u64);
 
     /// Traverses both hierarchies, pushing the overlapping leaf pairs to
-    /// `leaf_pairs` (empty on entry).
-    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed;
+    /// `leaf_pairs` (empty on entry); with `TIMED`, counting the time-stamp
+    /// ticks spent refitting ([`Pass::timed`] chooses).
+    fn traverse<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed;
 
     /// Whether refit time is split from traversal time (two time-stamp
     /// reads per refit).
@@ -132,9 +137,15 @@ pub(crate) fn run<P: Pass>(
     let t0 = Instant::now();
     let tick0 = ticks();
     scratch.leaf_pairs.clear();
-    let tr = pass.traverse(&mut scratch.workspace, &mut scratch.leaf_pairs);
+    let (ws, leaf_pairs) = (&mut scratch.workspace, &mut scratch.leaf_pairs);
+    let timed = pass.timed();
+    let tr = if timed {
+        pass.traverse::<true>(ws, leaf_pairs)
+    } else {
+        pass.traverse::<false>(ws, leaf_pairs)
+    };
     let elapsed = ms_since(t0);
-    if pass.timed() {
+    if timed {
         let total_ticks = ticks().wrapping_sub(tick0).max(1);
         c.time.refit_ms = elapsed * (tr.refit_ticks as f64 / total_ticks as f64).min(1.0);
         c.time.traversal_ms = elapsed - c.time.refit_ms;

@@ -72,11 +72,62 @@ impl<L: VisitLog> Hierarchy for LoggedTree<'_, L> {
 }
 
 impl<F: Frame, L: VisitLog> RigidPass<'_, F, L> {
+    /// While skinning for leaf pair `k`: starts loading the character
+    /// triangle of pair `k + 2·AHEAD` and the vertices of pair `k + AHEAD`'s
+    /// (whose triangle has arrived by then); see [`crate::prefetch`].
+    #[inline(always)]
+    fn prefetch_skinning(&self, leaf_pairs: &[LeafPair], k: usize) {
+        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
+            self.character.prefetch_indices(q.primitive_a);
+        }
+        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
+            self.character.prefetch_triangle(q.primitive_a);
+        }
+    }
+
+    /// While testing leaf pair `k`: starts loading the repeat mark and the
+    /// body's triangle of pair `k + 2·AHEAD`, and that triangle's corners
+    /// for pair `k + AHEAD`.
+    #[inline(always)]
+    fn prefetch_narrow(&self, leaf_pairs: &[LeafPair], k: usize) {
+        let mesh = self.mesh;
+        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
+            self.marks.repeats.prefetch(q.primitive_a);
+            prefetch_at(mesh.indices(), q.primitive_b as usize);
+        }
+        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
+            for v in mesh.indices()[q.primitive_b as usize] {
+                prefetch_at(mesh.positions(), v as usize);
+            }
+        }
+    }
+
+    /// Prefetching ahead pays where leaf pairs are few and each reads new
+    /// memory: the methods that test each pair once. The others meet the
+    /// same triangles over and over (thousands of pairs), which stay
+    /// cached, and the hints would only cost (docs/performance-journal.md, "Cold
+    /// caches").
+    fn prefetches(&self) -> bool {
+        self.method.tests_each_pair_once()
+    }
+}
+
+impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
+    type Hit = (u32, u32);
+
+    fn work(&self) -> (u64, u64) {
+        self.character.work()
+    }
+
+    fn timed(&self) -> bool {
+        self.timed
+    }
+
     /// The method's traversal (paper §3, with our pruned variants' guard):
     /// grouped leaves and the plane and edge-plane guard for the methods
     /// that test each pair once, the plane guard for the other pruned
     /// methods, plain traversal for the paper's.
-    fn traverse_timed<const TIMED: bool>(
+    fn traverse<const TIMED: bool>(
         &mut self,
         ws: &mut Workspace,
         leaf_pairs: &mut Vec<LeafPair>,
@@ -114,65 +165,6 @@ impl<F: Frame, L: VisitLog> RigidPass<'_, F, L> {
             guard_sphere_tests: 0,
             plane_tests,
             refit_ticks: a.refit_ticks(),
-        }
-    }
-
-    /// While skinning for leaf pair `k`: starts loading the character
-    /// triangle of pair `k + 2·AHEAD` and the vertices of pair `k + AHEAD`'s
-    /// (whose triangle has arrived by then); see [`crate::prefetch`].
-    #[inline(always)]
-    fn prefetch_skinning(&self, leaf_pairs: &[LeafPair], k: usize) {
-        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
-            self.character.prefetch_indices(q.primitive_a);
-        }
-        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
-            self.character.prefetch_triangle(q.primitive_a);
-        }
-    }
-
-    /// While testing leaf pair `k`: starts loading the repeat mark and the
-    /// body's triangle of pair `k + 2·AHEAD`, and that triangle's corners
-    /// for pair `k + AHEAD`.
-    #[inline(always)]
-    fn prefetch_narrow(&self, leaf_pairs: &[LeafPair], k: usize) {
-        let mesh = self.mesh;
-        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
-            self.marks.repeats.prefetch(q.primitive_a);
-            prefetch_at(mesh.indices(), q.primitive_b as usize);
-        }
-        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
-            for v in mesh.indices()[q.primitive_b as usize] {
-                prefetch_at(mesh.positions(), v as usize);
-            }
-        }
-    }
-
-    /// Prefetching ahead pays where leaf pairs are few and each reads new
-    /// memory: the methods that test each pair once. The others meet the
-    /// same triangles over and over (thousands of pairs), which stay
-    /// cached, and the hints would only cost (docs/performance.md, "Cold
-    /// caches").
-    fn prefetches(&self) -> bool {
-        self.method.tests_each_pair_once()
-    }
-}
-
-impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
-    type Hit = (u32, u32);
-
-    fn work(&self) -> (u64, u64) {
-        self.character.work()
-    }
-
-    fn timed(&self) -> bool {
-        self.timed
-    }
-
-    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed {
-        if self.timed {
-            self.traverse_timed::<true>(ws, leaf_pairs)
-        } else {
-            self.traverse_timed::<false>(ws, leaf_pairs)
         }
     }
 

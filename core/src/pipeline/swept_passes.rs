@@ -48,6 +48,27 @@ fn distinct_pairs(leaf_pairs: &mut Vec<LeafPair>) {
     leaf_pairs.dedup_by_key(|p| (p.primitive_a, p.primitive_b));
 }
 
+/// Leaf pair `p` answered by the triangle–triangle kernel on its triangles
+/// `a` and `b` over the step (`b_still`: `b` does not move), counted as a
+/// triangle test.
+fn kernel_hit(
+    p: &LeafPair,
+    a: &MovingTriangle<f64>,
+    b: &MovingTriangle<f64>,
+    b_still: bool,
+    params: &CcdParams,
+    ccd: &mut CcdCounters,
+    c: &mut FrameCounters,
+) -> Option<TimedPair> {
+    c.tri_tri += 1;
+    leaf_toi(a, b, b_still, params, ccd).map(|toi| TimedPair {
+        a: p.primitive_a,
+        b: p.primitive_b,
+        toi,
+        by_plane: false,
+    })
+}
+
 /// A character's step against the still room.
 pub(crate) struct SweptRoomPass<'a> {
     pub(crate) character: SweptSide<'a>,
@@ -76,7 +97,11 @@ impl Pass for SweptRoomPass<'_> {
         self.character.work()
     }
 
-    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed {
+    fn traverse<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed {
         let (room, planes) = (self.room, self.planes);
         let prunes = self.method.prunes_at_plane();
         let nodes = room.tree.nodes();
@@ -141,14 +166,13 @@ impl Pass for SweptRoomPass<'_> {
         if plane_leaf {
             return Some(hit(plane_toi, true));
         }
-        c.tri_tri += 1;
         let a = self.character.moving_triangle(p.primitive_a);
         let still = corners(&big);
         let b = MovingTriangle {
             start: still,
             end: still,
         };
-        leaf_toi(&a, &b, true, self.params, self.ccd).map(|toi| hit(toi, false))
+        kernel_hit(&p, &a, &b, true, self.params, self.ccd, c)
     }
 
     /// Distinct leaf pairs in order give hits in order.
@@ -191,7 +215,11 @@ impl Pass for SweptObjectPass<'_> {
         self.character.work()
     }
 
-    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed {
+    fn traverse<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed {
         let (mut a, _) = self.character.hierarchy();
         let mut b = SweptRigid {
             tree: &self.object.tree,
@@ -213,15 +241,9 @@ impl Pass for SweptObjectPass<'_> {
         c: &mut FrameCounters,
     ) -> Option<TimedPair> {
         let p = leaf_pairs[k];
-        c.tri_tri += 1;
         let a = self.character.moving_triangle(p.primitive_a);
         let b = posed_triangle(self.mesh, p.primitive_b, &self.path.from, &self.path.to);
-        leaf_toi(&a, &b, false, self.params, self.ccd).map(|toi| TimedPair {
-            a: p.primitive_a,
-            b: p.primitive_b,
-            toi,
-            by_plane: false,
-        })
+        kernel_hit(&p, &a, &b, false, self.params, self.ccd, c)
     }
 
     /// Distinct leaf pairs in order give hits in order.
@@ -247,7 +269,11 @@ impl Pass for SweptPairPass<'_> {
         (ra + rb, sa + sb)
     }
 
-    fn traverse(&mut self, ws: &mut Workspace, leaf_pairs: &mut Vec<LeafPair>) -> Traversed {
+    fn traverse<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed {
         let (mut ha, ca) = self.a.hierarchy();
         let (mut hb, cb) = self.b.hierarchy();
         let mut sphere_tests = 0u64;
@@ -275,15 +301,9 @@ impl Pass for SweptPairPass<'_> {
         c: &mut FrameCounters,
     ) -> Option<TimedPair> {
         let p = leaf_pairs[k];
-        c.tri_tri += 1;
         let ta = self.a.moving_triangle(p.primitive_a);
         let tb = self.b.moving_triangle(p.primitive_b);
-        leaf_toi(&ta, &tb, false, self.params, self.ccd).map(|toi| TimedPair {
-            a: p.primitive_a,
-            b: p.primitive_b,
-            toi,
-            by_plane: false,
-        })
+        kernel_hit(&p, &ta, &tb, false, self.params, self.ccd, c)
     }
 
     fn finish(hits: &mut Vec<TimedPair>) {

@@ -20,6 +20,8 @@ use crate::sphere_tree::NodeId;
 
 /// Told of the environment node of every sphere-sphere test.
 pub trait VisitLog {
+    /// Environment node `env`'s sphere took part in one more sphere-sphere
+    /// test.
     fn tested(&mut self, env: NodeId);
 }
 

@@ -25,6 +25,15 @@ pub struct BuildParams {
     pub collapse_ratio: f32,
 }
 
+impl BuildParams {
+    /// A wider, shallower tree: a child over 0.6 of its parent's radius is
+    /// collapsed into it (fewer inner spheres to refit and test; our
+    /// methods' character trees, `Method::character_build`).
+    pub const WIDE: BuildParams = BuildParams {
+        collapse_ratio: 0.6,
+    };
+}
+
 impl Default for BuildParams {
     /// Collapse ratio 0.9 (ours; the paper says only "similar").
     fn default() -> Self {

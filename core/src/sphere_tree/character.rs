@@ -24,7 +24,7 @@ use crate::mesh::{EdgeDedup, TriangleId};
 
 use super::build::{BuildParams, build_tree};
 use super::node::{NodeId, SphereTree};
-use super::refit::{RefitData, RefitRule};
+use super::refit_rules::{Origin, RefitData, RefitRule};
 
 /// Share of triangles a child subtree needs for its parent to be a major branch.
 pub const MAJOR_SHARE: f64 = 0.05;
@@ -34,6 +34,7 @@ pub const MAJOR_SHARE: f64 = 0.05;
 pub struct Extremity {
     /// Name of the group's top joint ("trunk" for the trunk).
     pub name: String,
+    /// The group's joints, in skeleton order.
     pub joints: Vec<JointId>,
 }
 
@@ -42,8 +43,12 @@ pub struct Extremity {
 pub struct CharacterTree {
     /// Topology and bind-space (rest) spheres.
     pub tree: SphereTree,
+    /// The rule refitting each node to a pose (paper §3, sphere update).
     pub refit: RefitData,
+    /// The skinning model the refit rules bound.
     pub model: SkinningModel,
+    /// The level-2 groups: the trunk first (when there is one), then one
+    /// per extremity.
     pub extremities: Vec<Extremity>,
     /// Owning joint of every mesh triangle.
     pub triangle_joint: Vec<JointId>,
@@ -135,15 +140,6 @@ impl CharacterTree {
             triangles,
         }
     }
-}
-
-/// Where a node of the merged tree comes from.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum Origin {
-    Root,
-    Group(usize),
-    /// Node `1` of joint tree `0`.
-    Joint(usize, NodeId),
 }
 
 /// The trunk and extremities of a skeleton, given triangles owned per joint.

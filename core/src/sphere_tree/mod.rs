@@ -7,13 +7,13 @@
 //! | [`character`] | the character's tree: one tree per joint under root and extremity spheres |
 //! | [`containment`] | distinct vertices per node; checking refit spheres hold them |
 //! | [`refit`] | on-demand refit from per-joint weight ranges (§3 sphere update) |
-//! | [`refit_ahead`] | last frame's asked-for nodes refit in one loop before traversal |
+//! | `refit_ahead` | last frame's asked-for nodes refit in one loop before traversal |
 //! | [`validate`] | the public validator tests call after every step |
 //! | [`swept`] | swept spheres of the character tree over a frame step, refit at both ends on demand (continuous detection) |
 //! | [`swept_rigid`] | swept spheres of a rigid body's tree over a step (its chord and its rotation) |
-//! | [`traverse`] | simultaneous traversal of two trees with a reusable [`Workspace`] |
-//! | [`pass_marks`] | per index, the last key met in a pass (no clearing between passes) |
-//! | [`grouped`] | the same, descending each sphere once per group of leaves (a big triangle's division) |
+//! | [`traverse`](mod@traverse) | simultaneous traversal of two trees with a reusable [`Workspace`] |
+//! | `pass_marks` | per index, the last key met in a pass (no clearing between passes) |
+//! | `grouped` | the same, descending each sphere once per group of leaves (a big triangle's division) |
 //!
 //! Invariants (checked by [`SphereTree::validate`]): node 0 is the root; the
 //! children of a node are contiguous and stored after it, level by level, so a
@@ -30,6 +30,7 @@ pub mod node;
 pub(crate) mod pass_marks;
 pub mod refit;
 mod refit_ahead;
+mod refit_rules;
 pub mod swept;
 pub mod swept_rigid;
 pub mod traverse;

@@ -9,8 +9,10 @@ use crate::geometry::Sphere;
 pub struct NodeId(pub u32);
 
 impl NodeId {
+    /// The root node, first in every tree.
     pub const ROOT: NodeId = NodeId(0);
 
+    /// The id as an index into the tree's nodes.
     #[inline]
     pub fn index(self) -> usize {
         self.0 as usize
@@ -24,12 +26,17 @@ impl NodeId {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Node {
+    /// The sphere, in the coordinates of the mesh the tree was built over
+    /// (bind space for a character, world for a room, the object's own frame
+    /// for a rigid object).
     pub sphere: Sphere,
     first: u32,
     count: u32,
 }
 
 impl Node {
+    /// An inner node whose `child_count` (at least one) children are stored
+    /// from `first_child` on.
     pub fn inner(sphere: Sphere, first_child: NodeId, child_count: u32) -> Self {
         debug_assert!(child_count > 0);
         Self {
@@ -39,6 +46,7 @@ impl Node {
         }
     }
 
+    /// A leaf bounding one primitive (a triangle index of the mesh).
     pub fn leaf(sphere: Sphere, primitive: u32) -> Self {
         Self {
             sphere,
@@ -47,6 +55,7 @@ impl Node {
         }
     }
 
+    /// Whether the node has no children (and so holds a primitive).
     #[inline]
     pub fn is_leaf(&self) -> bool {
         self.count == 0
@@ -68,6 +77,7 @@ impl Node {
         }
     }
 
+    /// Number of children (0 for a leaf).
     #[inline]
     pub fn child_count(&self) -> u32 {
         self.count
@@ -87,6 +97,7 @@ impl SphereTree {
         Self { nodes }
     }
 
+    /// Every node, root first, in breadth-first order.
     pub fn nodes(&self) -> &[Node] {
         &self.nodes
     }
@@ -96,19 +107,23 @@ impl SphereTree {
         self.nodes.iter_mut().map(|n| &mut n.sphere)
     }
 
+    /// Node `id` (panics if it is not in the tree).
     #[inline]
     pub fn node(&self, id: NodeId) -> &Node {
         &self.nodes[id.index()]
     }
 
+    /// Number of nodes.
     pub fn len(&self) -> usize {
         self.nodes.len()
     }
 
+    /// Whether the tree has no node (built over no triangle).
     pub fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
 
+    /// Number of leaves, one per primitive.
     pub fn leaf_count(&self) -> usize {
         self.nodes.iter().filter(|n| n.is_leaf()).count()
     }

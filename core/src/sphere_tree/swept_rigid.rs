@@ -34,8 +34,9 @@ use super::traverse::Hierarchy;
 /// How far a rigid body's frame travels over one step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RigidPath {
-    /// Pose at the start and at the end of the step (object frame → world).
+    /// Pose at the start of the step (object frame → world).
     pub from: Isometry3<f32>,
+    /// Pose at the end of the step (object frame → world).
     pub to: Isometry3<f32>,
     /// Path length of the axis point (world units) over the step.
     pub travel: f64,
@@ -86,7 +87,9 @@ impl RigidPath {
 /// A rigid body's static tree seen over a step: each node's sphere swept
 /// along [`RigidPath`], in world coordinates.
 pub struct SweptRigid<'a> {
+    /// The body's tree, its spheres in the object's frame.
     pub tree: &'a SphereTree,
+    /// How the body moves over the step.
     pub path: RigidPath,
 }
 

@@ -17,7 +17,10 @@ use super::pass_marks::PassMarks;
 /// for the current frame. A refitting hierarchy computes a sphere the first time
 /// it is asked for it in a frame (on demand, §3 "Sphere update").
 pub trait Hierarchy {
+    /// The tree whose topology is walked.
     fn tree(&self) -> &SphereTree;
+    /// Node `id`'s sphere for the current frame (a refitting hierarchy
+    /// computes it on the first request).
     fn sphere(&mut self, id: NodeId) -> Sphere;
     /// Called once for every sphere-sphere test node `id`'s sphere takes part
     /// in, the root pair's included (a visit log; by default nothing, which
@@ -56,6 +59,7 @@ pub struct Workspace {
 }
 
 impl Workspace {
+    /// An empty workspace; its stack grows on the first queries.
     pub fn new() -> Self {
         Self::default()
     }
@@ -86,10 +90,13 @@ pub struct TraversalStats {
 /// Two overlapping leaves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LeafPair {
+    /// The leaf of the first tree (`a`).
     pub leaf_a: NodeId,
+    /// The leaf of the second tree (`b`).
     pub leaf_b: NodeId,
-    /// The primitives the leaves bound (triangle indices).
+    /// The primitive `leaf_a` bounds (a triangle index of `a`'s mesh).
     pub primitive_a: u32,
+    /// The primitive `leaf_b` bounds (a triangle index of `b`'s mesh).
     pub primitive_b: u32,
 }
 

@@ -7,30 +7,73 @@ use super::node::SphereTree;
 /// A broken invariant, naming the node.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum TreeError {
+    /// A node's sphere has a non-finite centre or radius, or a negative radius.
     #[error("node {node}: sphere is not finite or has a negative radius")]
-    InvalidSphere { node: u32 },
+    InvalidSphere {
+        /// The node's index.
+        node: u32,
+    },
+    /// An inner node's children do not all come after it, or run past the
+    /// last node.
     #[error("node {node}: children {first}..{end} are not all after it and inside the tree")]
-    BadChildren { node: u32, first: u32, end: u32 },
+    BadChildren {
+        /// The inner node's index.
+        node: u32,
+        /// Its first child's index.
+        first: u32,
+        /// One past its last child's index.
+        end: u32,
+    },
+    /// A node other than the root has no parent, or more than one.
     #[error("node {node} is reached from more than one parent, or never")]
-    BadParent { node: u32 },
+    BadParent {
+        /// The node's index.
+        node: u32,
+    },
+    /// A leaf's primitive is not a triangle index of the mesh.
     #[error("leaf {node}: primitive {primitive} is not a triangle of the mesh")]
-    BadPrimitive { node: u32, primitive: u32 },
+    BadPrimitive {
+        /// The leaf's index.
+        node: u32,
+        /// The primitive it holds.
+        primitive: u32,
+    },
+    /// A triangle of [`Checks::triangles`] is in no leaf or in several, or a
+    /// triangle outside that list is in a leaf.
     #[error("triangle {triangle} is in {count} leaves, expected exactly one")]
-    TriangleCount { triangle: u32, count: u32 },
+    TriangleCount {
+        /// The mesh triangle's index.
+        triangle: u32,
+        /// How many leaves hold it.
+        count: u32,
+    },
+    /// A leaf triangle's corner lies outside its leaf's sphere or an
+    /// ancestor's, beyond the tolerance.
     #[error(
         "leaf {leaf}: vertex {corner} of triangle {triangle} lies {excess} outside the sphere of node {node}"
     )]
     VertexOutside {
+        /// The leaf's index.
         leaf: u32,
+        /// The triangle it holds (mesh index).
         triangle: u32,
+        /// Which corner of the triangle (0, 1 or 2).
         corner: usize,
+        /// The node (the leaf or an ancestor) whose sphere misses the corner.
         node: u32,
+        /// How far the corner lies beyond that sphere's radius, in model units.
         excess: f64,
     },
+    /// A child's sphere is not inside its parent's (checked with
+    /// [`Checks::nested`]).
     #[error("node {child} sticks out of its parent {parent} by {excess}")]
     NotNested {
+        /// The parent's index.
         parent: u32,
+        /// The child's index.
         child: u32,
+        /// How far the child's sphere reaches beyond the parent's radius,
+        /// in model units.
         excess: f64,
     },
 }

@@ -23,7 +23,7 @@ use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::RefitState;
 
 use super::character_model::CharacterModel;
-use super::contacts::{ObjectPair, Timed};
+use super::contacts::{Contacts, Detection, ObjectPair, Timed};
 use super::handles::CharacterHandle;
 
 /// A room or a moving object: its triangles and their hierarchy, in its
@@ -64,6 +64,18 @@ pub(crate) struct OwnPasses {
     pub(crate) broad_phase_tests: u64,
     pub(crate) body_pairs: u64,
     pub(crate) ccd: CcdCounters,
+}
+
+impl OwnPasses {
+    /// Adds its counters to a step's: the room and object kinds, the broad
+    /// phase's root tests (counted with the objects) and body pairs.
+    pub(crate) fn add_to<D: Detection>(&self, out: &mut Contacts<D>) {
+        out.by_kind.environment.add(&self.rooms);
+        out.by_kind.objects.add(&self.objects);
+        out.by_kind.objects.sphere_sphere += self.broad_phase_tests;
+        out.broad_phase_tests += self.broad_phase_tests;
+        out.body_pairs += self.body_pairs;
+    }
 }
 
 /// One character pass's working memory and hits, kept between steps.

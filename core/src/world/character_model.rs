@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use crate::character::skinning::SkinError;
 use crate::character::{Character, SkinningModel};
-use crate::io::limits::MAX_COORDINATE;
+use crate::io::limits::{MAX_COORDINATE, within_range};
 use crate::mesh::{EdgeDedup, dedup_edges};
 
 use super::error::WorldError;
@@ -96,7 +96,7 @@ impl CharacterModel {
         let mut bind_reach = 0.0f32;
         for (vertex, p) in mesh.positions().iter().enumerate() {
             let d = p.coords.norm();
-            if !(d <= MAX_COORDINATE) {
+            if !within_range(d) {
                 return Err(WorldError::MeshOutOfRange {
                     what: "character",
                     vertex,

@@ -9,7 +9,7 @@ use crate::character::OnDemandSkin;
 use crate::character::{PoseBuffers, SkinPose, Trs};
 use crate::geometry::Sphere;
 use crate::geometry::ccd_root_finder::CcdParams;
-use crate::io::limits::MAX_COORDINATE;
+use crate::io::limits::{MAX_COORDINATE, within_range};
 use crate::mesh::TriMesh;
 use crate::pipeline::visit_log::TestedNodes;
 use crate::pipeline::{DEFAULT_THRESHOLD, EnvironmentTree, Method, SweepState};
@@ -18,13 +18,13 @@ use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::RefitState;
 use crate::sphere_tree::traverse::LeafPair;
 
-use super::bodies::{CharacterBody, CharacterSweep, PassSlot, RigidBody};
+use super::bodies::{CharacterBody, PassSlot, RigidBody};
 use super::character_model::CharacterModel;
 use super::contacts::StepContacts;
+use super::continuous_state::ContinuousState;
 use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 use super::pass_graph::PassGraph;
-use super::sweep::ContinuousState;
 
 /// How a world builds its hierarchies and measures its steps.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -74,10 +74,13 @@ pub(crate) struct PairState {
 ///
 /// ```
 /// use std::sync::Arc;
-/// use cornertree::world::CollisionWorld;
-/// use cornertree::pipeline::Method;
-/// use cornertree::mesh::TriMesh;
+/// use cornertree::character::skinning::Influences;
+/// use cornertree::character::{Character, Joint, Skeleton, SkinningModel, Trs};
 /// use cornertree::geometry::Point;
+/// use cornertree::mesh::TriMesh;
+/// use cornertree::pipeline::Method;
+/// use cornertree::world::{CharacterModel, CollisionWorld};
+/// use nalgebra::{Isometry3, Matrix4};
 ///
 /// // A floor of two triangles, 4 m by 4 m.
 /// let floor = TriMesh::new(
@@ -90,11 +93,51 @@ pub(crate) struct PairState {
 ///     vec![[0, 2, 1], [0, 3, 2]],
 /// )
 /// .unwrap();
+/// // A character of one joint: a tetrahedron 20 cm tall above its joint.
+/// let joint = Joint {
+///     name: "root".into(),
+///     parent: None,
+///     rest: Trs::IDENTITY,
+///     inverse_bind: Matrix4::identity(),
+/// };
+/// let skeleton = Skeleton::new(vec![joint], Matrix4::identity()).unwrap();
+/// let tetrahedron = TriMesh::new(
+///     vec![
+///         Point::new(-0.1, 0.0, -0.1),
+///         Point::new(0.1, 0.0, -0.1),
+///         Point::new(0.0, 0.0, 0.1),
+///         Point::new(0.0, 0.2, 0.0),
+///     ],
+///     vec![[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0]],
+/// )
+/// .unwrap();
+/// let weights = Influences::new(vec![[0; 4]; 4], vec![[1.0, 0.0, 0.0, 0.0]; 4], 1).unwrap();
+/// let body = Character::new("tetra".into(), skeleton, tetrahedron, weights, Vec::new());
+///
 /// let mut world = CollisionWorld::new(Method::UndividedPrunedTriTri);
 /// let room = world.add_room(Arc::new(floor)).unwrap();
-/// assert_eq!(room.index(), 0);
-/// // No character yet: nothing collides.
+/// let model = CharacterModel::new(body, SkinningModel::Linear).unwrap();
+/// let tetra = world.add_character(Arc::new(model)).unwrap();
+///
+/// // Half sunk into the floor, inside its first triangle: the three side
+/// // faces cross that triangle, the base is below it.
+/// let sunk = Isometry3::translation(0.5, -0.1, -0.5);
+/// world.set_joint_transforms(tetra, &[Trs::IDENTITY], &sunk).unwrap();
+/// let contacts = world.step();
+/// let hits = contacts.room_contacts_of(tetra);
+/// assert_eq!(hits.len(), 3);
+/// let pairs: Vec<(u32, u32)> = hits.iter().map(|c| (c.triangle, c.room_triangle)).collect();
+/// assert_eq!(pairs, [(1, 0), (2, 0), (3, 0)]);
+/// assert!(hits.iter().all(|c| c.room == room));
+///
+/// // Lifted 1 m: nothing touches.
+/// let lifted = Isometry3::translation(0.0, 1.0, 0.0);
+/// world.set_joint_transforms(tetra, &[Trs::IDENTITY], &lifted).unwrap();
 /// assert!(world.step().is_empty());
+///
+/// // A transform that is not a number is refused, not a panic.
+/// let broken = Isometry3::translation(f32::NAN, 0.0, 0.0);
+/// assert!(world.set_joint_transforms(tetra, &[Trs::IDENTITY], &broken).is_err());
 /// ```
 pub struct CollisionWorld {
     pub(crate) method: Method,
@@ -445,28 +488,13 @@ impl CollisionWorld {
     }
 }
 
-impl ContinuousState {
-    /// A character's continuous state.
-    pub(crate) fn character_sweep(&self, c: &CharacterBody, rooms: usize) -> CharacterSweep {
-        let ch = c.model.character();
-        CharacterSweep {
-            state: SweepState::new(&c.tree, ch.skeleton.len(), ch.mesh.vertex_count()),
-            start: c.pose.clone(),
-            continues: false,
-            rooms: (0..rooms).map(|_| PassSlot::default()).collect(),
-            objects: PassSlot::default(),
-            object_pairs: Vec::new(),
-        }
-    }
-}
-
 /// Every position of `mesh` inside the coordinate range.
 fn check_mesh(mesh: &TriMesh, what: &'static str) -> Result<(), WorldError> {
     match mesh
         .positions()
         .iter()
         .enumerate()
-        .find(|(_, p)| !(p.coords.norm() <= MAX_COORDINATE))
+        .find(|(_, p)| !within_range(p.coords.norm()))
     {
         Some((vertex, p)) => Err(WorldError::MeshOutOfRange {
             what,
@@ -507,7 +535,7 @@ fn check_pose(h: CharacterHandle, pose: SkinPose<'_>, bind_reach: f32) -> Result
         return Err(WorldError::NonFinitePlacement { character: h });
     }
     let reach = pose.reach(bind_reach);
-    if !(reach <= MAX_COORDINATE) {
+    if !within_range(reach) {
         return Err(WorldError::PoseOutOfRange {
             character: h,
             reach,

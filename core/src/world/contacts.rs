@@ -267,6 +267,18 @@ impl<D: Detection> Contacts<D> {
         self.len() == 0
     }
 
+    /// Sets the totals: every kind's tests, pairs and times summed; the
+    /// characters' `refits` and `skinned` vertices of the step (each
+    /// counted once, whichever pass did it).
+    pub(crate) fn sum_kinds(&mut self, refits: u64, skinned: u64) {
+        self.total = FrameCounters::default();
+        for k in PairKind::ALL {
+            self.total.add(self.by_kind.get(k));
+        }
+        self.total.refits = refits;
+        self.total.skinned_vertices = skinned;
+    }
+
     /// Forgets the last step (no allocation).
     pub(crate) fn clear(&mut self) {
         self.total = FrameCounters::default();

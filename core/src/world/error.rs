@@ -20,38 +20,60 @@ pub enum WorldError {
     /// A pose for another number of joints than the character's skeleton.
     #[error("{character}: the pose has {got} joints, the skeleton {expected}")]
     JointCount {
+        /// The character posed.
         character: CharacterHandle,
+        /// Joints in its skeleton.
         expected: usize,
+        /// Joints in the pose given.
         got: usize,
     },
     /// A joint transform (or the placement) with a value that is not finite.
     #[error("{character}: joint {joint}'s transform is not finite")]
     NonFiniteJoint {
+        /// The character posed.
         character: CharacterHandle,
+        /// Index of the joint (in its skeleton) whose skin matrix is not
+        /// finite.
         joint: usize,
     },
     /// The placement or the skeleton base frame is not finite.
     #[error("{character}: the placement is not finite")]
-    NonFinitePlacement { character: CharacterHandle },
+    NonFinitePlacement {
+        /// The character placed.
+        character: CharacterHandle,
+    },
     /// A pose that takes a vertex beyond the coordinates the kernels accept
     /// ([`MAX_COORDINATE`](crate::io::limits::MAX_COORDINATE)).
     #[error(
         "{character}: the pose takes vertices up to {reach} from the origin, beyond the {limit} accepted for coordinates"
     )]
     PoseOutOfRange {
+        /// The character posed.
         character: CharacterHandle,
+        /// An upper bound of the posed vertices' distance from the origin
+        /// (world units).
         reach: f32,
+        /// The largest distance accepted.
         limit: f32,
     },
     /// An object pose that is not finite or beyond the coordinate range.
     #[error("{object}: its pose is not finite or beyond {limit} from the origin")]
-    BadObjectPose { object: ObjectHandle, limit: f32 },
+    BadObjectPose {
+        /// The object posed.
+        object: ObjectHandle,
+        /// The largest distance from the origin accepted for its position.
+        limit: f32,
+    },
     /// A mesh with a position beyond the coordinate range.
     #[error("{what}: vertex {vertex} lies {distance} from the origin, beyond the {limit} accepted")]
     MeshOutOfRange {
+        /// Whose mesh: "room", "object" or "character".
         what: &'static str,
+        /// Index of the first vertex out of range.
         vertex: usize,
+        /// Its distance from the origin (in the mesh's coordinates).
         distance: f32,
+        /// The largest distance accepted.
         limit: f32,
     },
     /// Skinning data that does not fit the mesh or the skeleton.
@@ -62,7 +84,12 @@ pub enum WorldError {
     Mesh(#[from] MeshError),
     /// The kept-triangle set of a character model for another mesh.
     #[error("character model: {got} triangles kept or dropped, the mesh has {expected}")]
-    KeptCount { expected: usize, got: usize },
+    KeptCount {
+        /// Triangles in the character's mesh.
+        expected: usize,
+        /// Triangles the set keeps or drops.
+        got: usize,
+    },
     /// Continuous detection asked of a world that has not enabled it.
     #[error("continuous detection is off: call enable_continuous first")]
     ContinuousOff,

@@ -7,18 +7,20 @@
 //! | [`collision_world`] | [`CollisionWorld`]: bodies by handle, poses, settings, observers' views |
 //! | `step` | [`CollisionWorld::step`]: a discrete step, every pass on the caller's threads |
 //! | `sweep` | [`CollisionWorld::sweep`]: continuous detection over the step since the last sweep |
+//! | `continuous_state` | what continuous detection keeps beside the bodies |
 //! | [`character_model`] | [`CharacterModel`]: what a character instance is made from, checked once |
 //! | [`contacts`] | [`Contacts`]: pairs of every kind by handle, with counters ([`StepContacts`], [`SweepContacts`]) |
 //! | [`handles`] | [`RoomHandle`], [`ObjectHandle`], [`CharacterHandle`] |
 //! | [`error`] | [`WorldError`]: the caller's bad data, named |
 //! | `bodies` | what each body keeps between steps |
-//! | [`pass_graph`] | a step's passes on every thread, a character's own passes before its pairs, one pass per character at a time |
+//! | `pass_graph` | a step's passes on every thread, a character's own passes before its pairs, one pass per character at a time |
 //! | [`pinning`] | opt-in: each thread of a pool on a processor of its own (Linux) |
 
 pub(crate) mod bodies;
 pub mod character_model;
 pub mod collision_world;
 pub mod contacts;
+mod continuous_state;
 pub mod error;
 pub mod handles;
 pub(crate) mod pass_graph;

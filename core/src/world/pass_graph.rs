@@ -9,7 +9,7 @@
 //! pass's counts are the same on any thread, and the pairs' counts of a
 //! character add up to its frame total less its own pass's, whatever order
 //! they ran in. (A fixed order per character, kept before, serialised the
-//! pairs behind the heaviest one: `docs/performance.md`, "All cores".)
+//! pairs behind the heaviest one: `docs/performance-journal.md`, "All cores".)
 //!
 //! Which free pass a thread takes is a matter of speed only: the one on the
 //! character with the most estimated work not yet started (last frame's

@@ -1,12 +1,12 @@
 //! Each thread of a world's pool kept on a processor of its own.
 //!
 //! Why: a frame of several characters starts on one pool thread while the
-//! others are woken for it ([`super::session`], `with_threads_awake`). Linux
-//! often queues a woken thread on the processor of the thread that woke it,
+//! others are woken for it (the workers of `pass_graph`). Linux often
+//! queues a woken thread on the processor of the thread that woke it,
 //! and there it waited behind the frame: in 28–38 of a crowd's 60 two-thread
 //! frames the second thread ran no pass, although the other processor was
 //! idle. With each pool thread pinned to its own processor it happened in
-//! none of two runs' 120 frames (docs/performance.md, "Pinned pool threads").
+//! none of two runs' 120 frames (docs/performance-journal.md, "Pinned pool threads").
 //!
 //! Pinning applies to pools of at least two threads and at most as many
 //! threads as the process may use processors; otherwise the threads are

@@ -38,7 +38,7 @@ use crate::sphere_tree::NodeId;
 
 use super::bodies::{CharacterBody, RigidBody};
 use super::collision_world::{CollisionWorld, PairState};
-use super::contacts::{CharacterPair, ObjectPair, PairKind, RoomPair, StepContacts};
+use super::contacts::{CharacterPair, ObjectPair, RoomPair, StepContacts};
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 
 impl CollisionWorld {
@@ -157,12 +157,7 @@ impl CollisionWorld {
             let c = c.get_mut().expect("no pass panicked");
             refits += c.refit.refits;
             skinned += c.skin.skinned();
-            let own = &c.own;
-            out.by_kind.environment.add(&own.rooms);
-            out.by_kind.objects.add(&own.objects);
-            out.by_kind.objects.sphere_sphere += own.broad_phase_tests;
-            out.broad_phase_tests += own.broad_phase_tests;
-            out.body_pairs += own.body_pairs;
+            c.own.add_to(out);
             out.object_pairs.extend_from_slice(&c.object_pairs);
             for (r, slot) in c.rooms.iter().enumerate() {
                 out.room_pairs
@@ -189,12 +184,7 @@ impl CollisionWorld {
         out.room_pairs.sort_unstable();
         out.object_pairs.sort_unstable();
         out.character_pairs.sort_unstable();
-        for k in PairKind::ALL {
-            let c = *out.by_kind.get(k);
-            out.total.add(&c);
-        }
-        out.total.refits = refits;
-        out.total.skinned_vertices = skinned;
+        out.sum_kinds(refits, skinned);
     }
 }
 

@@ -21,75 +21,20 @@ use nalgebra::{Isometry3, Vector3};
 use crate::geometry::ccd_root_finder::CcdParams;
 use crate::geometry::ccd_sphere_plane::StillPlane;
 use crate::pipeline::FrameCounters;
-use crate::pipeline::continuous_narrow::{CcdCounters, TimedPair};
+use crate::pipeline::continuous_narrow::CcdCounters;
 use crate::pipeline::pass::run;
-use crate::pipeline::swept_passes::{SweptObjectPass, SweptPairPass, SweptRoomPass, room_planes};
+use crate::pipeline::swept_passes::{SweptObjectPass, SweptPairPass, SweptRoomPass};
 use crate::pipeline::swept_side::{StepPose, SweptSide};
 use crate::sphere_tree::NodeId;
 use crate::sphere_tree::swept_rigid::RigidPath;
 
-use super::bodies::{CharacterBody, PassSlot, RigidBody};
+use super::bodies::{CharacterBody, RigidBody};
 use super::collision_world::CollisionWorld;
-use super::contacts::{CharacterPair, ObjectPair, PairKind, RoomPair, SweepContacts, Timed};
+use super::contacts::{CharacterPair, ObjectPair, RoomPair, SweepContacts, Timed};
+use super::continuous_state::ContinuousState;
 use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 use super::step::side_by_side;
-
-/// A world's continuous state beside its bodies'.
-pub(crate) struct ContinuousState {
-    pub(crate) params: CcdParams,
-    /// Per room, the plane of each division's big triangle.
-    room_planes: Vec<Vec<StillPlane>>,
-    /// Each object's pose at the start of the next sweep.
-    object_starts: Vec<Isometry3<f32>>,
-    /// Each object's path over the next sweep, where the caller gave one.
-    next_paths: Vec<Option<RigidPath>>,
-    /// Each object's path over the last sweep.
-    paths: Vec<RigidPath>,
-    /// Whether a sweep has recorded the start poses.
-    started: bool,
-    pairs: PassSlot<TimedPair>,
-    pair_ccd: CcdCounters,
-    pub(crate) contacts: SweepContacts,
-}
-
-impl ContinuousState {
-    pub(crate) fn new(params: CcdParams, rooms: &[RigidBody], objects: &[RigidBody]) -> Self {
-        Self {
-            params,
-            room_planes: rooms
-                .iter()
-                .map(|r| room_planes(&r.tree, &r.mesh))
-                .collect(),
-            object_starts: objects.iter().map(|o| o.pose).collect(),
-            next_paths: vec![None; objects.len()],
-            paths: objects.iter().map(|o| RigidPath::still(o.pose)).collect(),
-            started: false,
-            pairs: PassSlot::default(),
-            pair_ccd: CcdCounters::default(),
-            contacts: SweepContacts::default(),
-        }
-    }
-
-    pub(crate) fn add_room(
-        &mut self,
-        room: &RigidBody,
-        characters: &mut [std::sync::Mutex<CharacterBody>],
-    ) {
-        self.room_planes.push(room_planes(&room.tree, &room.mesh));
-        for c in characters {
-            if let Some(s) = c.get_mut().expect("no pass panicked").sweep.as_mut() {
-                s.rooms.push(PassSlot::default());
-            }
-        }
-    }
-
-    pub(crate) fn add_object(&mut self, pose: &Isometry3<f32>) {
-        self.object_starts.push(*pose);
-        self.next_paths.push(None);
-        self.paths.push(RigidPath::still(*pose));
-    }
-}
 
 impl CollisionWorld {
     /// Says how object `h` moves over the next [`Self::sweep`]: `path`
@@ -368,13 +313,8 @@ fn gather(
         let s = c.sweep.as_ref().expect("continuous detection is on");
         refits += s.state.refits();
         skinned += s.state.skinned();
-        let own = &c.own;
-        out.by_kind.environment.add(&own.rooms);
-        out.by_kind.objects.add(&own.objects);
-        out.by_kind.objects.sphere_sphere += own.broad_phase_tests;
-        out.broad_phase_tests += own.broad_phase_tests;
-        out.body_pairs += own.body_pairs;
-        out.extra.add(&own.ccd);
+        c.own.add_to(out);
+        out.extra.add(&c.own.ccd);
         let h = CharacterHandle(i as u32);
         out.object_pairs.extend_from_slice(&s.object_pairs);
         for (r, slot) in s.rooms.iter().enumerate() {
@@ -393,10 +333,5 @@ fn gather(
     out.room_pairs.sort_unstable_by_key(|p| p.pair);
     out.object_pairs.sort_unstable_by_key(|p| p.pair);
     out.character_pairs.sort_unstable_by_key(|p| p.pair);
-    for k in PairKind::ALL {
-        let c = *out.by_kind.get(k);
-        out.total.add(&c);
-    }
-    out.total.refits = refits;
-    out.total.skinned_vertices = skinned;
+    out.sum_kinds(refits, skinned);
 }

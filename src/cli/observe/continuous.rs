@@ -77,7 +77,11 @@ impl ContinuousObserver {
             return;
         }
         if let Some(mut t) = self.truth.take() {
-            t.update(&bodies(&self.prev_positions, &self.prev_poses, world));
+            t.update(&StepBodies::between(
+                &self.prev_positions,
+                &self.prev_poses,
+                world,
+            ));
             self.truth = Some(t);
         }
     }
@@ -99,7 +103,7 @@ impl ContinuousObserver {
         let session = &*session;
         let world = session.world(m);
         let outcome = world.sweep_contacts().expect("continuous detection is on");
-        let bodies = bodies(&self.prev_positions, &self.prev_poses, session);
+        let bodies = StepBodies::between(&self.prev_positions, &self.prev_poses, session);
         let score = self
             .truth
             .as_ref()
@@ -174,24 +178,5 @@ impl ContinuousObserver {
             out += "\n";
         }
         out
-    }
-}
-
-/// The step between the previous frame (`prev_*`) and `world`'s.
-fn bodies<'a>(
-    prev_positions: &'a [Vec<Point>],
-    prev_poses: &'a [Isometry3<f32>],
-    world: &'a Session,
-) -> StepBodies<'a> {
-    StepBodies {
-        scene: &world.scene,
-        start: prev_positions.iter().map(Vec::as_slice).collect(),
-        end: world
-            .buffers
-            .iter()
-            .map(|b| b.positions.as_slice())
-            .collect(),
-        object_start: prev_poses,
-        object_end: &world.object_poses,
     }
 }
