@@ -130,6 +130,17 @@ fn bad_poses_are_refused_and_the_last_pose_is_kept() {
             joint: 0
         })
     );
+    // A matrix is finite as a whole, its last row (which skinning never
+    // reads) included.
+    let mut pose = PoseBuffers::new(&chip());
+    pose.skin[0][(3, 1)] = f32::NAN;
+    assert_eq!(
+        w.set_pose(h, &pose),
+        Err(WorldError::NonFiniteJoint {
+            character: h,
+            joint: 0
+        })
+    );
     // None of the refused poses replaced the last one.
     assert_eq!(w.step().room_pairs, pairs);
 }

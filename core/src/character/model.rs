@@ -212,7 +212,10 @@ impl SkinPose<'_> {
             .map(|m| {
                 let linear = m.fixed_view::<3, 3>(0, 0).norm();
                 let t = m.fixed_view::<3, 1>(0, 3).norm();
-                linear * bind_reach + t
+                // Zero, or NaN when the last row is not finite (skinning
+                // never reads it, but a matrix is finite or not as a whole).
+                let last_row = m.fixed_view::<1, 4>(3, 0).sum() * 0.0;
+                linear * bind_reach + t + last_row
             })
             .fold(
                 0.0,

@@ -52,7 +52,7 @@ impl OnDemandSkin {
     }
 
     /// Skins vertex `v` for this frame's pose unless already done.
-    #[inline]
+    #[inline(always)]
     pub fn ensure(
         &mut self,
         pose: SkinPose<'_>,

@@ -61,7 +61,7 @@ impl CharacterSide<'_> {
     }
 
     /// Skins the corners of triangle `t` unless done this frame.
-    #[inline]
+    #[inline(always)]
     pub(crate) fn ensure_triangle(&mut self, t: u32) {
         for v in self.character.mesh.indices()[t as usize] {
             self.skin.ensure(self.pose, self.character, self.model, v);

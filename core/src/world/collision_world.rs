@@ -521,6 +521,13 @@ fn check_object_pose(h: ObjectHandle, pose: &Isometry3<f32>) -> Result<(), World
 
 /// A pose is finite and keeps every vertex inside the coordinate range.
 fn check_pose(h: CharacterHandle, pose: SkinPose<'_>, bind_reach: f32) -> Result<(), WorldError> {
+    // A matrix that is not finite makes the reach infinite: one pass over
+    // the matrices accepts a good pose; only a refused one is searched for
+    // its culprit.
+    let reach = pose.reach(bind_reach);
+    if within_range(reach) {
+        return Ok(());
+    }
     if let Some(joint) = pose
         .skin
         .iter()
@@ -534,13 +541,9 @@ fn check_pose(h: CharacterHandle, pose: SkinPose<'_>, bind_reach: f32) -> Result
     if !pose.base.iter().all(|x| x.is_finite()) {
         return Err(WorldError::NonFinitePlacement { character: h });
     }
-    let reach = pose.reach(bind_reach);
-    if !within_range(reach) {
-        return Err(WorldError::PoseOutOfRange {
-            character: h,
-            reach,
-            limit: MAX_COORDINATE,
-        });
-    }
-    Ok(())
+    Err(WorldError::PoseOutOfRange {
+        character: h,
+        reach,
+        limit: MAX_COORDINATE,
+    })
 }
