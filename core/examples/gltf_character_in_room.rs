@@ -122,9 +122,10 @@ fn run(path: &Path) -> Result<Seen, Box<dyn std::error::Error>> {
     Ok(seen)
 }
 
-/// The bundled CesiumMan.
+/// The bundled CesiumMan (in the repository's `assets/`, beside `core/`).
 fn cesium_man() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../assets/CesiumMan.glb")
+    let core = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    core.parent().unwrap_or(core).join("assets/CesiumMan.glb")
 }
 
 /// Plays `path` and checks what came out.
