@@ -23,8 +23,10 @@ use cornertree_workbench::scenario::open_scenario;
 use cornertree_workbench::session::Session;
 use cornertree_workbench::truth::Truth;
 
+/// Plays a scenario through one method of the collision library and records
+/// it to Rerun (a file, a viewer it spawns or one it connects to).
 #[derive(Debug, clap::Parser)]
-#[clap(author, version, about)]
+#[clap(author, version)]
 struct Args {
     /// The scenario to play.
     #[arg(default_value = "scenarios/handshake.toml")]
