@@ -93,7 +93,7 @@ fn ratio(num: u64, den: u64) -> f64 {
 }
 
 /// The pairs sorted and distinct: borrowed when they already are (as
-/// `Pipeline::detect` and `ParryReference::pairs` give them).
+/// a world's contacts and `ParryReference::pairs` give them).
 fn sorted(pairs: &[(u32, u32)]) -> Cow<'_, [(u32, u32)]> {
     if pairs.windows(2).all(|w| w[0] < w[1]) {
         Cow::Borrowed(pairs)

@@ -13,7 +13,8 @@
 //! | [`accuracy`] | precision and recall per frame and over a run, at the levels of pairs, character triangles and frames |
 //!
 //! Every pair list here is a sorted list of distinct `(character triangle,
-//! environment triangle)` indices, as `Pipeline::detect` gives them.
+//! environment triangle)` indices, as a `CollisionWorld`'s contacts of a
+//! body pair give them.
 //!
 //! parry's own test is GJK, not exact: in `f32` it reports pairs that miss by
 //! ~1e-5 of the scene size and, between a small and a big triangle or with a

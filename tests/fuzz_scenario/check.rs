@@ -4,7 +4,7 @@
 //!
 //! A case is read (`Scenario::parse`), resolved within [`LIMITS`] (bodies
 //! loaded or generated, placements worked out), every method's hierarchies
-//! are built (`World::new`), the ground truth is set up, and the first and
+//! are built (`Session::new`), the ground truth is set up, and the first and
 //! last frames are played through every method and the truth; with
 //! `ccd = true`, the last step is also detected continuously.
 
