@@ -1,25 +1,23 @@
-//! # cornertree
+//! # cornertree-workbench
 //!
-//! A research workbench for real-time collision detection (CD) of animated,
-//! skinned virtual characters with sphere trees, after *Real time accurate
-//! collision detection for virtual characters* (the paper).
+//! The research workbench on top of the collision library (the package
+//! `cornertree` in `core/`, after *Real time accurate collision detection
+//! for virtual characters*, the paper): scenario files, generated rooms and
+//! characters, ground truth, recordings, reports and the `cornertree`
+//! command. It uses the library through its public API like any engine.
 //!
 //! | module | what | paper |
 //! |---|---|---|
-//! | [`bench`] | cost per frame against the parry3d baseline, in one run; scaling variants | (performance) |
-//! | [`geometry`] | points, spheres, triangles; the tests of the operation model; enclosing spheres; exact oracle | §2, §3, §5, §6 |
-//! | [`mesh`] | indexed triangle meshes; edge de-duplication | §4 |
-//! | [`sphere_tree`] | sphere-tree build, n-ary collapse, validation, simultaneous traversal | §3 |
-//! | [`big_triangle`] | sphere division, corner-trees and quaternary trees inside big triangles | §4–5 |
-//! | [`character`] | skeletons, clips, skinning models | §3 |
-//! | [`io`] | glTF loading | |
+//! | [`scenario`] | scenario files (TOML): characters, clips, rooms, objects, placements, methods; resolved into bodies | §6 |
+//! | [`session`] | [`session::Session`]: one `CollisionWorld` per method, all fed the same poses; the frame loop every command drives | §6 |
 //! | [`environment`] | generated rooms (museum, living room) of big and small triangles, moving doors; static glTF scenes | §4, §6 |
-//! | [`pipeline`] | methods, the environment hierarchy per method | §5–6 |
+//! | [`humanoid`] | the generated skinned humanoid of any size | §6 |
+//! | [`io`] | PLY dumps, continuous-collision query files, where a character comes from | |
+//! | [`truth`] | ground truth (exact pairs over parry3d's BVH leaf pairs), parry3d's answer and the parry3d baseline world; disagreements classified; precision and recall | (reference) |
 //! | [`record`] | Rerun recordings of runs and of the paper's figures | §3–6, Figs. 1–3 |
 //! | [`report`] | what the commands print (text and JSON) | §6 |
-//! | [`scenario`] | scenario files (TOML): character, clip, room, placement (start, path, gap to a surface), methods | §6 |
+//! | [`bench`](mod@bench) | cost per frame against the parry3d baseline, in one run; scaling variants | (performance) |
 //! | [`study`] | experiments that vary one condition at a time (where the plane-sphere method reaches the paper's counts) | §5–6 |
-//! | [`truth`] | ground truth from parry3d (BVH leaf pairs, triangle-triangle test); disagreements classified; precision and recall | (reference) |
 //!
 //! `docs/architecture.md` maps every section of the paper to the code.
 

@@ -4,7 +4,7 @@
 //!
 //! | file | what |
 //! |---|---|
-//! | [`measure`] | [`measure::measure`]: frames interleaved between parry, each method on all threads and on one |
+//! | [`measure`](mod@measure) | [`measure::measure`]: frames interleaved between parry, each method on all threads and on one |
 //! | [`continuous`] | [`continuous::measure_ccd`]: continuous detection beside discrete per method, and discrete at `k` sub-steps (`bench --ccd`) |
 //! | [`variants`] | a base scenario with another character size, room size or number of characters |
 

@@ -51,7 +51,7 @@ pub fn is_degenerate(mesh: &TriMesh, t: [u32; 3]) -> bool {
     cross <= 4.0 * f64::EPSILON * longest
 }
 
-/// Every triangle of the scene in `path` (see [`load_static_mesh`]: every
+/// Every triangle of the scene in `path` (see [`load_static_mesh`](cornertree::io::load_static_mesh): every
 /// mesh, node transforms applied) as one static object, degenerate triangles
 /// removed and reported. A scene with no triangles, or only degenerate ones,
 /// is an error.

@@ -3,7 +3,7 @@
 //!
 //! Every kernel runs on the same seeded mixed inputs
 //! ([`super::kernel_inputs`]) twice: instantiated with
-//! [`Counted`](cornertree::geometry::counted::Counted), which counts each
+//! [`cornertree::geometry::counted::Counted`], which counts each
 //! arithmetic operation (`+ − × ÷`, negation, `abs`, `sqrt`) and each
 //! comparison it executes, and with the scalar the pipeline runs (`f64`;
 //! `f32` for sphere-sphere), which is timed. The two must give the same

@@ -6,7 +6,7 @@
 //! | [`ccd_bench`] | `bench --ccd`'s table: continuous beside discrete per method, and discrete at `k` sub-steps |
 //! | [`continuous`] | `run --ccd`'s JSON: per step the pairs with times of impact, the earliest, discrete's misses, the sub-stepped reference's score; totals |
 //! | [`animate`] | clip playback: refit containment, tightness, per-frame costs |
-//! | [`bench`] | `bench`'s table and the scaling studies' markdown tables |
+//! | [`bench`](mod@bench) | `bench`'s table and the scaling studies' markdown tables |
 //! | [`kernels`] | operations charged and paid per kernel, time per test (`cornertree kernels`) |
 //! | [`kernel_inputs`] | the seeded mixed inputs of `cornertree kernels` |
 //! | [`inspect`] | static mesh summary: counts, de-duplication, tree shape and bytes |

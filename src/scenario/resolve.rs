@@ -157,7 +157,7 @@ impl Actor {
         t0.elapsed().as_secs_f64() * 1e3
     }
 
-    /// [`Resolved::pose_frame`] and every vertex skinned; returns the
+    /// [`Actor::pose_frame`] and every vertex skinned; returns the
     /// milliseconds of each: `(pose, skinning)`.
     pub fn pose_and_skin_frame(&self, buffers: &mut PoseBuffers, frame: usize) -> (f64, f64) {
         let pose_ms = self.pose_frame(buffers, frame);
