@@ -90,20 +90,33 @@ impl Session {
         let threads = pool.current_num_threads();
         let serial = Arc::new(rayon::ThreadPoolBuilder::new().num_threads(1).build()?);
         // What every method's worlds share: the characters' models (edge
-        // de-duplication done once), the room's and objects' meshes.
-        let models = scene
-            .characters
-            .iter()
-            .map(|a| {
-                let mesh = &a.character.mesh;
-                let kept = if scene.dedup {
-                    dedup_edges(mesh)
-                } else {
-                    EdgeDedup::keep_all(mesh)
-                };
-                CharacterModel::with_kept(a.character.clone(), a.skinning, kept).map(Arc::new)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
+        // de-duplication done once per source and skinning model; actors of
+        // one source are instances of one model, whose tree each world then
+        // builds once), the room's and objects' meshes.
+        let mut models: Vec<Arc<CharacterModel>> = Vec::with_capacity(scene.characters.len());
+        for (i, a) in scene.characters.iter().enumerate() {
+            let same = scene.characters[..i]
+                .iter()
+                .zip(&models)
+                .find(|(b, _)| Arc::ptr_eq(&a.character, &b.character) && a.skinning == b.skinning);
+            let model = match same {
+                Some((_, m)) => m.clone(),
+                None => {
+                    let mesh = &a.character.mesh;
+                    let kept = if scene.dedup {
+                        dedup_edges(mesh)
+                    } else {
+                        EdgeDedup::keep_all(mesh)
+                    };
+                    Arc::new(CharacterModel::with_kept(
+                        a.character.clone(),
+                        a.skinning,
+                        kept,
+                    )?)
+                }
+            };
+            models.push(model);
+        }
         let room_mesh: Arc<TriMesh> = Arc::new(scene.environment.mesh.clone());
         let object_meshes: Vec<Arc<TriMesh>> = scene
             .objects

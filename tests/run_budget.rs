@@ -54,6 +54,17 @@ fn shipped(name: &str) -> String {
     .unwrap()
 }
 
+/// `crowd.toml` with its eight walkers made from one source (seed 11): one
+/// humanoid built and charged in full, seven more instances of it.
+fn crowd_of_one_source() -> String {
+    let mut text = shipped("crowd");
+    for seed in 12..=18 {
+        text = text.replace(&format!("seed={seed}\""), "seed=11\"");
+    }
+    assert_eq!(text.matches("seed=11\"").count(), 8);
+    text
+}
+
 #[test]
 fn estimates_cover_what_building_takes() {
     let touching = shipped("touching");
@@ -93,6 +104,12 @@ fn estimates_cover_what_building_takes() {
             // The character dominates.
             "touching",
             touching.replace("vertices=10000", "vertices=150000"),
+        ),
+        (
+            // Instances of one source: eight walkers of one humanoid
+            // (charged once in full, then per instance).
+            "crowd",
+            crowd_of_one_source(),
         ),
     ];
     let mut failures = Vec::new();

@@ -7,10 +7,13 @@ use std::path::Path;
 use crate::humanoid::HumanoidParams;
 use crate::io::CharacterSource;
 use crate::scenario::{
-    CharacterEntry, CharacterSection, EnvironmentSection, Gap, Placement, Resolved, Scenario,
-    ScenarioError, WalkPath, resolve,
+    CharacterEntry, CharacterSection, EnvironmentSection, Gap, Placement, Resolved, RunLimits,
+    Scenario, ScenarioError, WalkPath, resolve_with,
 };
 use cornertree::geometry::bounds_of;
+
+/// The seed of the crowd's one humanoid.
+const CROWD_SEED: u64 = 11;
 
 fn base_dir(base: &Path) -> &Path {
     base.parent().unwrap_or(Path::new(""))
@@ -25,6 +28,7 @@ pub fn sized(
     s: &Scenario,
     character_vertices: usize,
     environment_vertices: Option<usize>,
+    limits: &RunLimits,
 ) -> Result<Resolved, ScenarioError> {
     let mut s = s.clone();
     let first = s.first_character_mut();
@@ -54,7 +58,7 @@ pub fn sized(
             }
         }
     }
-    resolve(&s, base_dir(base))
+    resolve_with(&s, base_dir(base), limits)
 }
 
 /// Surface of the contact sweep when the base scenario keeps no gap.
@@ -64,7 +68,12 @@ pub const SWEEP_SURFACE: &str = "south wall";
 /// `metres` from its gap surface over the clip (negative: that deep into
 /// it at the deepest), everything else as in the base: the contact sweep.
 /// A base placed otherwise gets a gap to [`SWEEP_SURFACE`].
-pub fn at_gap(base: &Path, s: &Scenario, metres: f32) -> Result<Resolved, ScenarioError> {
+pub fn at_gap(
+    base: &Path,
+    s: &Scenario,
+    metres: f32,
+    limits: &RunLimits,
+) -> Result<Resolved, ScenarioError> {
     let mut s = s.clone();
     let first = s.first_character_mut();
     match &mut first.placement {
@@ -78,7 +87,7 @@ pub fn at_gap(base: &Path, s: &Scenario, metres: f32) -> Result<Resolved, Scenar
             })
         }
     }
-    resolve(&s, base_dir(base))
+    resolve_with(&s, base_dir(base), limits)
 }
 
 /// Lanes of a crowd: side by side, this far apart (metres), neighbours
@@ -168,8 +177,9 @@ fn spread(slots: &[(f32, f32, usize)]) -> Vec<usize> {
     order
 }
 
-/// The base scenario's room (and objects) with `count` generated humanoids of
-/// `vertices` vertices walking at 1.2 m/s in free slots of the floor (lanes
+/// The base scenario's room (and objects) with `count` instances of one
+/// generated humanoid of `vertices` vertices (one source, built once:
+/// instances share its mesh, skeleton, clips and trees) walking at 1.2 m/s in free slots of the floor (lanes
 /// [`LANE_SPACING`] apart, clear of furniture, neighbouring lanes in opposite
 /// directions, out of step), filled farthest-first so that any number
 /// spreads over the room. Each character then has the same surroundings
@@ -180,8 +190,9 @@ pub fn crowd(
     s: &Scenario,
     count: usize,
     vertices: usize,
+    limits: &RunLimits,
 ) -> Result<Resolved, ScenarioError> {
-    let room = resolve(s, base_dir(base))?;
+    let room = resolve_with(s, base_dir(base), limits)?;
     let slots = free_slots(&room.environment);
     if count > slots.len() {
         return Err(ScenarioError::new(
@@ -215,7 +226,7 @@ pub fn crowd(
                 character: CharacterSection {
                     source: CharacterSource::Humanoid(HumanoidParams {
                         vertices,
-                        seed: 11 + i as u64,
+                        seed: CROWD_SEED,
                     }),
                     clip: Some("walk".into()),
                     skinning: template.character.skinning,
@@ -230,5 +241,5 @@ pub fn crowd(
             }
         })
         .collect();
-    resolve(&s, base_dir(base))
+    resolve_with(&s, base_dir(base), limits)
 }

@@ -7,9 +7,10 @@ use cornertree_workbench::bench::continuous::measure_ccd;
 use cornertree_workbench::bench::{Bench, measure};
 use cornertree_workbench::report::bench::BenchTable;
 use cornertree_workbench::report::ccd_bench::CcdBenchTable;
-use cornertree_workbench::scenario::{Resolved, open_scenario, scenario_name};
+use cornertree_workbench::scenario::{Resolved, open_scenario_within, scenario_name};
 
 use super::args::ScenarioArgs;
+use super::play::{DEFAULT_BUDGET_GIB, run_limits};
 
 #[derive(clap::Args)]
 pub struct BenchArgs {
@@ -28,6 +29,11 @@ pub struct BenchArgs {
     /// With `--ccd`: the most sub-steps per step tried.
     #[arg(long, value_name = "K", default_value_t = 256, value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub ccd_max_substeps: u32,
+    /// Most memory the scenario's bodies and the measured methods'
+    /// hierarchies may take, in GiB (estimated before they are built, as
+    /// `run` does; docs/robustness.md).
+    #[arg(long, value_name = "GIB", default_value_t = DEFAULT_BUDGET_GIB)]
+    pub memory_budget: f64,
 }
 
 /// A progress bar over `len` frames.
@@ -57,9 +63,13 @@ pub fn measure_with_progress(
 
 pub fn bench(args: BenchArgs) -> anyhow::Result<String> {
     let common = &args.common;
-    let mut scene = open_scenario(&common.scenario)?;
+    // The methods measured are set before resolving: the budget charges
+    // their hierarchies alone.
+    let limits = run_limits(args.memory_budget)?;
+    let mut scene = open_scenario_within(&common.scenario, &limits, |s| {
+        s.methods = common.methods_or_all();
+    })?;
     common.apply(&mut scene, Some(false));
-    scene.methods = common.methods_or_all();
     let frames = common.frames.map_or(scene.frames(), |f| f as usize);
     let progress = progress_bar(frames as u64);
     let name = scenario_name(&common.scenario);

@@ -54,7 +54,7 @@ pub enum Style {
 }
 
 /// `--memory-budget` as limits.
-fn run_limits(gib: f64) -> anyhow::Result<RunLimits> {
+pub(super) fn run_limits(gib: f64) -> anyhow::Result<RunLimits> {
     if !(gib.is_finite() && gib > 0.0 && gib <= 1e6) {
         anyhow::bail!("--memory-budget: must be GiB from above 0 to 1e6, not {gib}");
     }

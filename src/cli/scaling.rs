@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use super::args::ScenarioArgs;
 use super::bench::{measure_with_progress, progress_bar};
+use super::play::{DEFAULT_BUDGET_GIB, run_limits};
 
 /// Character sizes of the study: about 3k, 10k, 44k (the paper's) and 100k.
 const CHARACTER_VERTICES: [usize; 4] = [3_000, 10_000, 44_345, 100_000];
@@ -47,6 +48,11 @@ pub struct ScalingArgs {
     /// as they pass; nothing by default.
     #[arg(long, value_delimiter = ',')]
     pub characters_count: Vec<usize>,
+    /// Most memory each configuration's bodies and the measured methods'
+    /// hierarchies may take, in GiB (estimated before they are built, as
+    /// `run` does; docs/robustness.md).
+    #[arg(long, value_name = "GIB", default_value_t = DEFAULT_BUDGET_GIB)]
+    pub memory_budget: f64,
     /// Contact sweep: the base scenario's character kept 5 cm to -5 cm from
     /// its gap surface (the south wall if it keeps none), a centimetre apart,
     /// so the speed-up over parry is seen from near miss to deep contact.
@@ -148,7 +154,11 @@ fn measure_studies(
 ) -> anyhow::Result<Scaling> {
     let common = &args.common;
     let name = scenario_name(&common.scenario);
-    let base = load_scenario(&common.scenario)?;
+    // The methods measured are set before resolving: the budget charges
+    // their hierarchies alone.
+    let limits = run_limits(args.memory_budget)?;
+    let mut base = load_scenario(&common.scenario)?;
+    base.methods = methods.to_vec();
     let progress = progress_bar(studies.len() as u64 * frames);
     let mut by = [Vec::new(), Vec::new(), Vec::new(), Vec::new()];
     for study in studies {
@@ -156,7 +166,7 @@ fn measure_studies(
             Study::Character(c) => (
                 format!("{name}, humanoid of {c} vertices"),
                 0,
-                variants::sized(&common.scenario, &base, c, None).map_err(Into::into),
+                variants::sized(&common.scenario, &base, c, None, &limits).map_err(Into::into),
             ),
             Study::Environment(e) => (
                 format!(
@@ -164,19 +174,25 @@ fn measure_studies(
                     args.character_size
                 ),
                 1,
-                variants::sized(&common.scenario, &base, args.character_size, Some(e))
-                    .map_err(Into::into),
+                variants::sized(
+                    &common.scenario,
+                    &base,
+                    args.character_size,
+                    Some(e),
+                    &limits,
+                )
+                .map_err(Into::into),
             ),
             Study::Crowd(n) => (
                 format!("{name}, {n} humanoids of {} vertices", args.crowd_vertices),
                 2,
-                variants::crowd(&common.scenario, &base, n, args.crowd_vertices)
+                variants::crowd(&common.scenario, &base, n, args.crowd_vertices, &limits)
                     .map_err(Into::into),
             ),
             Study::Contact(g) => (
                 format!("{name}, gap {:+.1} cm", g * 100.0),
                 3,
-                variants::at_gap(&common.scenario, &base, g).map_err(Into::into),
+                variants::at_gap(&common.scenario, &base, g, &limits).map_err(Into::into),
             ),
         };
         progress.set_message(label.clone());

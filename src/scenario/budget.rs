@@ -57,6 +57,14 @@ pub mod cost {
     pub const TRUTH_PER_ROOM_TRIANGLE: usize = 220;
     /// The ground truth, per character triangle.
     pub const TRUTH_PER_CHARACTER_TRIANGLE: usize = 100;
+    /// A further instance of a character already built, per vertex: its
+    /// pose buffers (every vertex skinned for the truth and the baseline)
+    /// and, in each method's world, its skinned vertices.
+    pub const INSTANCE_PER_VERTEX: usize = 60;
+    /// A further instance, per triangle and method: its refit state (the
+    /// tree, marks and pass scratch are shared; `core/tests/instance_memory.rs`
+    /// measures about 40 bytes per triangle on a 10k-vertex humanoid).
+    pub const INSTANCE_PER_TRIANGLE: usize = 50;
 }
 
 /// The bytes charged so far against a [`RunLimits`].
@@ -141,6 +149,14 @@ pub fn static_mesh_bytes(triangles: usize, methods: usize, characters: usize) ->
 pub fn character_bytes(vertices: usize, triangles: usize, methods: usize) -> Option<usize> {
     let per_triangle = methods * cost::PIPELINE_PER_TRIANGLE + cost::TRUTH_PER_CHARACTER_TRIANGLE;
     mul(vertices, cost::CHARACTER_PER_VERTEX)?.checked_add(mul(triangles, per_triangle)?)
+}
+
+/// One more instance of a character of `vertices` and `triangles` whose
+/// source is already built: what it holds alone in every method's world, and
+/// its ground truth.
+pub fn instance_bytes(vertices: usize, triangles: usize, methods: usize) -> Option<usize> {
+    let per_triangle = methods * cost::INSTANCE_PER_TRIANGLE + cost::TRUTH_PER_CHARACTER_TRIANGLE;
+    mul(vertices, cost::INSTANCE_PER_VERTEX)?.checked_add(mul(triangles, per_triangle)?)
 }
 
 /// Nodes of the big triangles' divisions in `mesh` over `methods`, at `threshold`.

@@ -440,34 +440,68 @@ pub fn resolve_with(
     }
 
     // Characters and their clips; the frame count is the longest clip's.
-    let mut loaded = Vec::with_capacity(s.characters.len());
+    // Entries of one source (the same file, the same generated humanoid)
+    // share one character: loaded or generated once, charged in full once,
+    // and each further instance charged only what it holds alone.
+    let mut loaded: Vec<(Arc<Character>, Option<usize>)> = Vec::with_capacity(s.characters.len());
+    let mut sources: Vec<(CharacterSource, Arc<Character>)> = Vec::new();
     for entry in &s.characters {
         let field = format!("{}.source", entry.field);
-        let character = match &entry.character.source {
-            CharacterSource::File(p) => {
-                let character = load_character_with(&asset(base_dir, p), &load_limits(&budget))
-                    .map_err(|e| fail(&field, e.to_string()))?
-                    .0;
+        let source = match &entry.character.source {
+            CharacterSource::File(p) => CharacterSource::File(asset(base_dir, p)),
+            generated => generated.clone(),
+        };
+        let known = sources
+            .iter()
+            .find(|(k, _)| *k == source)
+            .map(|(_, c)| c.clone());
+        let character = match known {
+            Some(character) => {
                 let (v, t) = (
                     character.mesh.vertex_count(),
                     character.mesh.triangle_count(),
                 );
                 budget
-                    .charge(budget::character_bytes(v, t, methods), || {
-                        format!("a character of {v} vertices with {with_methods}' hierarchies")
+                    .charge(budget::instance_bytes(v, t, methods), || {
+                        format!(
+                            "another instance of a character of {v} vertices with {with_methods}' state"
+                        )
                     })
                     .map_err(|m| fail(&field, m))?;
                 character
             }
-            CharacterSource::Humanoid(h) => {
-                let v = h.vertices;
-                budget
-                    .charge(
-                        budget::character_bytes(v, v.saturating_mul(2), methods),
-                        || format!("a humanoid of {v} vertices with {with_methods}' hierarchies"),
-                    )
-                    .map_err(|m| fail(&field, m))?;
-                generate_humanoid(h).map_err(|e| fail(&field, e.to_string()))?
+            None => {
+                let character = Arc::new(match &source {
+                    CharacterSource::File(p) => {
+                        let character = load_character_with(p, &load_limits(&budget))
+                            .map_err(|e| fail(&field, e.to_string()))?
+                            .0;
+                        let (v, t) = (
+                            character.mesh.vertex_count(),
+                            character.mesh.triangle_count(),
+                        );
+                        budget
+                            .charge(budget::character_bytes(v, t, methods), || {
+                                format!(
+                                    "a character of {v} vertices with {with_methods}' hierarchies"
+                                )
+                            })
+                            .map_err(|m| fail(&field, m))?;
+                        character
+                    }
+                    CharacterSource::Humanoid(h) => {
+                        let v = h.vertices;
+                        budget
+                            .charge(
+                                budget::character_bytes(v, v.saturating_mul(2), methods),
+                                || format!("a humanoid of {v} vertices with {with_methods}' hierarchies"),
+                            )
+                            .map_err(|m| fail(&field, m))?;
+                        generate_humanoid(h).map_err(|e| fail(&field, e.to_string()))?
+                    }
+                });
+                sources.push((source, character.clone()));
+                character
             }
         };
         let clip_index = match (&entry.character.clip, character.clips.is_empty()) {
@@ -481,6 +515,7 @@ pub fn resolve_with(
         };
         loaded.push((character, clip_index));
     }
+    drop(sources);
     let frames = match s.frames {
         Some(n) => n,
         None => {
@@ -544,7 +579,7 @@ pub fn resolve_with(
         };
         characters.push(Actor {
             name: entry.name.clone(),
-            character: Arc::new(character),
+            character,
             clip_index,
             skinning: entry.character.skinning,
             clip_offset: entry.clip_offset,

@@ -58,11 +58,31 @@ impl PassScratch {
     pub(crate) fn leaf_pairs(&self) -> &[LeafPair] {
         &self.leaf_pairs
     }
+
+    /// What the last pass needed: its leaf pairs and its deepest traversal
+    /// stack (capacity).
+    pub(crate) fn needed(&self) -> (usize, usize) {
+        (self.leaf_pairs.len(), self.workspace.capacity())
+    }
+
+    /// Room for `leaf_pairs` leaf pairs and a traversal stack of `stack`;
+    /// from now on sized by its owner alone (no headroom added after a
+    /// first pass).
+    pub(crate) fn reserve(&mut self, leaf_pairs: usize, stack: usize) {
+        self.warmed_up = true;
+        if self.leaf_pairs.capacity() < leaf_pairs {
+            self.leaf_pairs
+                .reserve_exact(leaf_pairs - self.leaf_pairs.len());
+        }
+        self.workspace.reserve_to(stack);
+    }
 }
 
-/// A character's marks kept between its passes of a frame: which (triangle,
-/// big triangle) pairs a pass has tested, which spheres it has descended
-/// against a big triangle (the methods that test each pair once).
+/// A pass's marks: which (triangle, big triangle) pairs it has tested, which
+/// character spheres it has descended against a big triangle (the methods
+/// that test each pair once). Each pass starts them afresh, so they belong
+/// to the thread running the pass, not to a character
+/// (`world::marks_pool`).
 #[derive(Clone, Debug, Default)]
 pub(crate) struct PassMarksOf {
     /// Per character triangle, the last big triangle it was tested with.
@@ -72,11 +92,11 @@ pub(crate) struct PassMarksOf {
 }
 
 impl PassMarksOf {
-    pub(crate) fn new(triangles: usize, nodes: usize) -> Self {
-        Self {
-            repeats: PassMarks::new(triangles),
-            groups: PassMarks::new(nodes),
-        }
+    /// Room for characters of up to `triangles` triangles and `nodes` tree
+    /// nodes (allocates only when it grows).
+    pub(crate) fn grow_to(&mut self, triangles: usize, nodes: usize) {
+        self.repeats.grow_to(triangles);
+        self.groups.grow_to(nodes);
     }
 }
 
@@ -133,6 +153,8 @@ pub(crate) fn run<P: Pass>(
 ) -> FrameCounters {
     let mut c = FrameCounters::default();
     let (refits, skinned) = pass.work();
+    // A hit list never used before (its slot's first pass).
+    let first_use = hits.capacity() == 0;
 
     let t0 = Instant::now();
     let tick0 = ticks();
@@ -176,14 +198,18 @@ pub(crate) fn run<P: Pass>(
     let (refits_now, skinned_now) = pass.work();
     c.refits = refits_now - refits;
     c.skinned_vertices = skinned_now - skinned;
+    // After the first frame, room for twice its work, so that later frames
+    // of a similar pose do not grow the buffers (a pooled scratch is sized
+    // by its pool instead, `world::pass_pool`; a hit list on its first
+    // use).
     if !scratch.warmed_up {
-        // After the first frame, room for twice its work, so that later
-        // frames of a similar pose do not grow the buffers.
         scratch.warmed_up = true;
         let n = scratch.leaf_pairs.len();
         scratch.leaf_pairs.reserve(n.max(64));
-        hits.reserve((2 * found).max(64));
         scratch.workspace.reserve_headroom();
+    }
+    if first_use {
+        hits.reserve((2 * found).max(64));
     }
     c.time.narrow_ms = ms_since(t0);
     c

@@ -4,7 +4,7 @@
 //! Two uses, both in `pruned-tri-tri`:
 //! - [`super::grouped`]: per character sphere, the big triangle it was last
 //!   descended against (a sphere is descended once per big triangle);
-//! - the narrow phase (`pipeline::driver`, `pipeline::bodies`): per
+//! - the narrow phase (`pipeline::rigid_pass`): per
 //!   character triangle, the big triangle it was last tested against. Every
 //!   leaf of a big triangle's division names that triangle (§5, "the
 //!   leaf-nodes ... point to the big triangle T"), so one triangle reaching
@@ -24,10 +24,24 @@ pub struct PassMarks {
 
 impl PassMarks {
     /// Marks for indices `0..len`.
+    #[cfg(test)]
     pub fn new(len: usize) -> Self {
         Self {
             last: vec![(0, 0); len],
             pass: 0,
+        }
+    }
+
+    /// Indices it has room for.
+    #[cfg(test)]
+    pub fn len(&self) -> usize {
+        self.last.len()
+    }
+
+    /// Room for indices `0..len` at least (allocates only when it grows).
+    pub fn grow_to(&mut self, len: usize) {
+        if self.last.len() < len {
+            self.last.resize(len, (0, 0));
         }
     }
 

@@ -69,6 +69,13 @@ impl Workspace {
         self.stack.capacity()
     }
 
+    /// Makes room for a stack of `n` entries.
+    pub fn reserve_to(&mut self, n: usize) {
+        if self.stack.capacity() < n {
+            self.stack.reserve_exact(n - self.stack.len());
+        }
+    }
+
     /// Makes room for twice the deepest stack seen so far.
     pub fn reserve_headroom(&mut self) {
         let want = 2 * self.stack.capacity();

@@ -16,7 +16,7 @@ use crate::mesh::TriMesh;
 use crate::pipeline::EnvironmentTree;
 use crate::pipeline::FrameCounters;
 use crate::pipeline::continuous_narrow::{CcdCounters, TimedPair};
-use crate::pipeline::pass::{PassMarksOf, PassScratch};
+use crate::pipeline::pass::PassScratch;
 use crate::pipeline::visit_log::TestedNodes;
 use crate::pipeline::{Method, SweepState};
 use crate::sphere_tree::character::CharacterTree;
@@ -107,13 +107,13 @@ pub(crate) struct CharacterBody {
     pub(crate) joint_world: Vec<Matrix4<f32>>,
     pub(crate) refit: RefitState,
     pub(crate) skin: OnDemandSkin,
-    pub(crate) marks: PassMarksOf,
     /// One slot per room: its leaf pairs and hits this step.
     pub(crate) rooms: Vec<PassSlot<(u32, u32)>>,
     /// Which nodes of each room the step's traversal tested, when asked.
     pub(crate) visits: Option<Vec<TestedNodes>>,
-    /// Shared by the object passes.
-    pub(crate) objects: PassSlot<(u32, u32)>,
+    /// The contacts of its last object pass (each object pass borrows its
+    /// scratch from the world's pass pool).
+    pub(crate) object_hits: Vec<(u32, u32)>,
     /// This step's object contacts.
     pub(crate) object_pairs: Vec<ObjectPair>,
     pub(crate) own: OwnPasses,
@@ -156,7 +156,6 @@ impl CharacterBody {
         };
         Self {
             handle,
-            marks: PassMarksOf::new(c.mesh.triangle_count(), tree.tree.len()),
             tree,
             next_pose: pose.clone(),
             pose,
@@ -165,7 +164,7 @@ impl CharacterBody {
             skin: OnDemandSkin::new(c.mesh.vertex_count()),
             rooms: Vec::new(),
             visits: None,
-            objects: PassSlot::default(),
+            object_hits: Vec::new(),
             object_pairs: Vec::new(),
             own: OwnPasses::default(),
             sweep: None,

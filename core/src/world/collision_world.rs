@@ -25,6 +25,7 @@ use super::continuous_state::ContinuousState;
 use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 use super::pass_graph::PassGraph;
+use super::pass_pool::PassPool;
 
 /// How a world builds its hierarchies and measures its steps.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -57,7 +58,8 @@ pub(crate) struct PairState {
     pub(crate) a: u32,
     pub(crate) b: u32,
     pub(crate) counters: crate::pipeline::FrameCounters,
-    pub(crate) slot: PassSlot<(u32, u32)>,
+    /// The pair's contacts this step.
+    pub(crate) hits: Vec<(u32, u32)>,
 }
 
 /// Collision detection of skinned characters against static rooms, moving
@@ -152,6 +154,8 @@ pub struct CollisionWorld {
     pub(crate) pairs: Vec<Mutex<PairState>>,
     /// The step's passes and the order they may run in.
     pub(crate) graph: PassGraph,
+    /// What the passes running borrow, one set per thread.
+    pub(crate) lent: PassPool,
     pub(crate) contacts: StepContacts,
     pub(crate) continuous: Option<Box<ContinuousState>>,
     /// Whether passes against rooms log the room nodes they test.
@@ -229,6 +233,7 @@ impl CollisionWorld {
             candidates: Vec::new(),
             pairs: Vec::new(),
             graph: PassGraph::new(0),
+            lent: PassPool::default(),
             contacts: StepContacts::default(),
             continuous: None,
             visit_logs: false,
@@ -300,22 +305,33 @@ impl CollisionWorld {
         Ok(h)
     }
 
-    /// Adds an instance of the character `model` at its rest pose; its tree
-    /// for the world's method is built now.
+    /// Adds an instance of the character `model` at its rest pose. Its tree
+    /// for the world's method is built now, the first time `model` is added;
+    /// every later instance of the same `Arc` shares it (and the model's
+    /// mesh, skeleton and weights) and holds only its own pose, refit state
+    /// and per-step buffers.
     pub fn add_character(
         &mut self,
         model: Arc<CharacterModel>,
     ) -> Result<CharacterHandle, WorldError> {
         let m = self.method;
-        let tree = CharacterTree::build_with_rule(
-            model.character(),
-            model.kept(),
-            model.skinning(),
-            m.character_build(self.settings.build),
-            m.refit_rule(),
-        );
+        let shared = self.characters.iter_mut().find_map(|c| {
+            let c = c.get_mut().expect("no pass panicked");
+            Arc::ptr_eq(&c.model, &model).then(|| c.tree.clone())
+        });
+        let tree = shared.unwrap_or_else(|| {
+            Arc::new(CharacterTree::build_with_rule(
+                model.character(),
+                model.kept(),
+                model.skinning(),
+                m.character_build(self.settings.build),
+                m.refit_rule(),
+            ))
+        });
         let handle = CharacterHandle(self.characters.len() as u32);
-        let mut body = CharacterBody::new(handle, model, m, Arc::new(tree));
+        self.lent
+            .fit(model.character().mesh.triangle_count(), tree.tree.len());
+        let mut body = CharacterBody::new(handle, model, m, tree);
         body.rooms = self.rooms.iter().map(|_| PassSlot::default()).collect();
         if self.visit_logs {
             body.visits = Some(self.room_logs());

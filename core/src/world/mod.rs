@@ -13,6 +13,7 @@
 //! | [`handles`] | [`RoomHandle`], [`ObjectHandle`], [`CharacterHandle`] |
 //! | [`error`] | [`WorldError`]: the caller's bad data, named |
 //! | `bodies` | what each body keeps between steps |
+//! | `pass_pool` | what a pass needs only while it runs (marks, scratch), one set per thread, not per body |
 //! | `pass_graph` | a step's passes on every thread, a character's own passes before its pairs, one pass per character at a time |
 //! | [`pinning`] | opt-in: each thread of a pool on a processor of its own (Linux) |
 
@@ -24,6 +25,7 @@ mod continuous_state;
 pub mod error;
 pub mod handles;
 pub(crate) mod pass_graph;
+mod pass_pool;
 pub mod pinning;
 mod step;
 mod sweep;

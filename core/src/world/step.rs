@@ -72,6 +72,7 @@ impl CollisionWorld {
 
         // 3. Every pass.
         self.graph.set_pairs(self.candidates.iter().copied());
+        self.lent.prepare(rayon::current_num_threads());
         let n = self.characters.len();
         let CollisionWorld {
             method,
@@ -82,6 +83,7 @@ impl CollisionWorld {
             characters,
             pairs,
             graph,
+            lent,
             ..
         } = self;
         let (method, timed) = (*method, settings.time_refit);
@@ -90,7 +92,7 @@ impl CollisionWorld {
             // contended.
             None => {
                 let mut c = characters[t].lock().expect("no pass panicked");
-                own_passes(&mut c, method, timed, rooms, objects, object_roots);
+                lent.with(|l| own_passes(&mut c, l, method, timed, rooms, objects, object_roots));
             }
             Some((i, j)) => {
                 let mut s = pairs[t - n].lock().expect("no pass panicked");
@@ -100,7 +102,7 @@ impl CollisionWorld {
                     a: sa,
                     b: sb,
                     counters,
-                    slot,
+                    hits,
                 } = &mut *s;
                 (*sa, *sb) = (i, j);
                 let mut pass = PairPass {
@@ -108,9 +110,11 @@ impl CollisionWorld {
                     b: side(&mut b),
                     timed,
                 };
-                *counters = run(&mut pass, &mut slot.scratch, &mut slot.hits);
+                *counters = lent.with(|l| run(&mut pass, &mut l.scratch, hits));
             }
         });
+
+        self.lent.settle();
 
         // 4. The contacts, in a fixed order.
         self.gather(char_tests);
@@ -174,7 +178,7 @@ impl CollisionWorld {
             out.by_kind.characters.add(&s.counters);
             let (a, b) = (CharacterHandle(s.a), CharacterHandle(s.b));
             out.character_pairs
-                .extend(s.slot.hits.iter().map(|&(ta, tb)| CharacterPair {
+                .extend(s.hits.iter().map(|&(ta, tb)| CharacterPair {
                     a,
                     triangle_a: ta,
                     b,
@@ -205,6 +209,7 @@ pub(crate) fn side(c: &mut CharacterBody) -> CharacterSide<'_> {
 /// sphere its root sphere meets.
 fn own_passes(
     c: &mut CharacterBody,
+    lent: &mut super::pass_pool::Lent,
     method: crate::pipeline::Method,
     timed: bool,
     rooms: &[RigidBody],
@@ -237,14 +242,14 @@ fn own_passes(
         pose,
         refit,
         skin,
-        marks,
         rooms: slots,
         visits,
-        objects: object_slot,
+        object_hits,
         object_pairs,
         own,
         ..
     } = c;
+    let super::pass_pool::Lent { marks, scratch } = lent;
     let mut character = CharacterSide {
         character: model.character(),
         tree,
@@ -296,9 +301,9 @@ fn own_passes(
             timed,
             skin_all_when_cheaper: false,
         };
-        let c = run(&mut pass, &mut object_slot.scratch, &mut object_slot.hits);
+        let c = run(&mut pass, scratch, object_hits);
         own.objects.add(&c);
-        object_pairs.extend(object_slot.hits.iter().map(|&(t, ot)| ObjectPair {
+        object_pairs.extend(object_hits.iter().map(|&(t, ot)| ObjectPair {
             character: *handle,
             triangle: t,
             object: ObjectHandle(o as u32),
