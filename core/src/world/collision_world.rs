@@ -340,7 +340,6 @@ impl CollisionWorld {
             body.sweep = Some(Box::new(cs.character_sweep(&body, self.rooms.len())));
         }
         self.characters.push(Mutex::new(body));
-        self.graph = PassGraph::new(self.characters.len());
         Ok(handle)
     }
 

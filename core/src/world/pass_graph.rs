@@ -68,6 +68,11 @@ impl PassGraph {
         }
     }
 
+    /// Characters it is sized for.
+    pub fn characters(&self) -> usize {
+        self.characters
+    }
+
     /// Sets this frame's character pairs, `(i, j)` with `i < j`, each
     /// character at most once with each other.
     pub fn set_pairs(&mut self, pairs: impl IntoIterator<Item = (u32, u32)>) {

@@ -71,6 +71,11 @@ impl CollisionWorld {
         }
 
         // 3. Every pass.
+        // Sized for the characters once they are all added (not rebuilt at
+        // every `add_character`: its size is quadratic in them).
+        if self.graph.characters() != self.characters.len() {
+            self.graph = super::pass_graph::PassGraph::new(self.characters.len());
+        }
         self.graph.set_pairs(self.candidates.iter().copied());
         self.lent.prepare(rayon::current_num_threads());
         let n = self.characters.len();
