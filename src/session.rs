@@ -326,6 +326,18 @@ impl Session {
         }
     }
 
+    /// [`Session::skin_all`] with the characters side by side on the
+    /// session's threads (the baseline's same-thread frame; call it inside
+    /// [`Session::in_pool`]).
+    pub fn skin_all_on_threads(&mut self) {
+        use rayon::prelude::*;
+        self.scene
+            .characters
+            .par_iter()
+            .zip(self.buffers.par_iter_mut())
+            .for_each(|(a, b)| b.skin_all(&a.character, a.skinning));
+    }
+
     /// The first character posed out of range this frame, and how far its
     /// vertices may reach from the origin (see [`Session::pose`]).
     pub fn out_of_range(&self) -> Option<(usize, f32)> {

@@ -36,17 +36,27 @@ fn bench_reports_speedups_and_exact_methods_match_parry() {
     );
     assert!(stdout.contains("parry3d baseline"), "{stdout}");
     let parry = v["parry_ms_per_frame"].as_f64().unwrap();
-    assert!(parry > 0.0);
+    let parry_same = v["parry_ms_per_frame_same_threads"].as_f64().unwrap();
+    assert!(parry > 0.0 && parry_same > 0.0);
     let methods = v["methods"].as_array().unwrap();
     assert_eq!(methods.len(), cornertree::pipeline::Method::ALL.len());
     for m in methods {
         let ms = m["ms_per_frame"].as_f64().unwrap();
+        let one = m["ms_per_frame_one_thread"].as_f64().unwrap();
         let speedup = m["speedup_vs_parry"].as_f64().unwrap();
-        assert!(ms > 0.0);
-        assert!(
-            (speedup - parry / ms).abs() <= 1e-9 * speedup.max(1.0),
-            "{m}"
-        );
+        assert!(ms > 0.0 && one > 0.0);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(1.0);
+        assert!(close(speedup, parry / ms), "{m}");
+        let same = m["speedup_vs_parry_same_threads"].as_f64().unwrap();
+        assert!(close(same, parry_same / ms), "{m}");
+        let one_one = m["speedup_vs_parry_one_thread"].as_f64().unwrap();
+        assert!(close(one_one, parry / one), "{m}");
+        // The one-thread frame's work and its longest chain: the chain is
+        // part of the work, and both fit in the frame's time.
+        let (work, span) = (m["work_ms"].as_f64().unwrap(), m["span_ms"].as_f64().unwrap());
+        let parallelism = m["available_parallelism"].as_f64().unwrap();
+        assert!(span > 0.0 && span <= work && work <= one, "{m}");
+        assert!(parallelism >= 1.0, "{m}");
     }
     // 20 frames of the living room, the foot meeting the floor at frame 18:
     // the exact methods report exactly the parry baseline's pairs on each.

@@ -18,9 +18,21 @@ use cornertree_workbench::scenario::open_scenario;
 /// rayon pool's job queues included). Returns the allocations of each frame
 /// of both passes.
 fn world_allocations(scenario: &str, frames: usize, threads: usize) -> (Vec<u64>, Vec<u64>) {
+    use cornertree_workbench::scenario::{Scenario, resolve};
     use cornertree_workbench::session::Session;
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(scenario);
-    let mut r = open_scenario(&path).unwrap();
+    let mut r = match scenario.strip_prefix("plaza:") {
+        // A plaza of this many 1,500-vertex humanoids, packed.
+        Some(count) => {
+            let text = format!(
+                "[environment]\nkind = \"plaza\"\n[crowd]\n\
+                 source = \"generated:humanoid?vertices=1500&seed=11\"\ncount = {count}\n\
+                 clip = \"walk\"\nspacing = [0.45, 1.0]\n"
+            );
+            let s = Scenario::parse(&text, Path::new("plaza.toml")).unwrap();
+            resolve(&s, Path::new(".")).unwrap()
+        }
+        None => open_scenario(&Path::new(env!("CARGO_MANIFEST_DIR")).join(scenario)).unwrap(),
+    };
     r.frames = frames;
     r.dedup = false;
     let mut world = Session::new(r, threads).unwrap();
@@ -50,6 +62,11 @@ fn world_frames_allocate_nothing_once_buffers_are_sized() {
         ("scenarios/crowd.toml", 6),
         ("scenarios/door.toml", 12),
         ("scenarios/handshake.toml", 6),
+        // 64 characters: the broad phase, the pass graph's heap and the
+        // pair states of a crowd.
+        ("plaza:64", 3),
+        // Past the broad phase's every-pair threshold: its sweep.
+        ("plaza:100", 2),
     ] {
         for threads in [1, 2] {
             let (first, second) = world_allocations(scenario, frames, threads);

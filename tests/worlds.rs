@@ -81,11 +81,106 @@ fn crowd_exact_pairs_every_frame() {
     exact_on_every_frame("crowd", PairKind::Characters);
 }
 
+/// A plaza crowd of `count` humanoids of `vertices` vertices, `spacing`
+/// apart, as scenario text.
+fn plaza(count: usize, vertices: usize, spacing: f32, frames: usize) -> String {
+    format!(
+        "frames = {frames}\ndedup = false\n[environment]\nkind = \"plaza\"\n[crowd]\n\
+         source = \"generated:humanoid?vertices={vertices}&seed=11\"\ncount = {count}\n\
+         clip = \"walk\"\nspacing = [{spacing}, 1.0]\n"
+    )
+}
+
+/// A packed plaza of 120 characters (over the broad phase's every-pair
+/// threshold, so its sort and sweep is the one that runs; 1,500-vertex
+/// humanoids to keep CI short, the shipped plazas have 10,000): the exact
+/// methods' pairs of every kind equal the world truth's on every frame
+/// played, and characters do touch.
+#[test]
+fn plaza_exact_pairs_every_frame() {
+    let text = plaza(120, 1500, 0.45, 4);
+    let s = Scenario::parse(&text, Path::new("plaza.toml")).unwrap();
+    assert_eq!(s.characters.len(), 120);
+    let mut r = cornertree_workbench::scenario::resolve(&s, Path::new(".")).unwrap();
+    r.methods = vec![Method::PrunedTriTri, Method::UndividedPrunedTriTri];
+    let mut world = Session::new(r, 0).unwrap();
+    let mut truth = Truth::new(&world.scene).unwrap();
+    let mut touching = 0;
+    for k in 0..world.frames() {
+        world.pose(k);
+        world.skin_all();
+        truth
+            .update(&world.scene, &world.buffers, &world.object_poses)
+            .unwrap();
+        world.detect_all();
+        touching += truth.exact.characters.len();
+        for (m, method) in world.methods().enumerate() {
+            let o = world.contacts(m);
+            assert_eq!(o.room_pairs, truth.exact.environment, "frame {k} {method} floor");
+            assert_eq!(
+                o.character_pairs, truth.exact.characters,
+                "frame {k} {method} characters"
+            );
+            // The sweep tested far fewer root pairs than every pair.
+            assert!(o.broad_phase_tests < 120 * 119 / 2 / 4, "{}", o.broad_phase_tests);
+        }
+    }
+    assert!(touching > 1000, "{touching} character pairs in 4 frames");
+}
+
+#[test]
+fn bad_crowds_fail_in_one_line_naming_the_field() {
+    let crowd = "[crowd]\nsource = \"generated:humanoid?vertices=3000\"\ncount = 4\n";
+    let cases = [
+        (format!("{ROOM}{ONE}{crowd}"), "crowd: give [crowd] alone"),
+        (
+            "[environment]\nkind = \"plaza\"\n".to_owned() + ONE,
+            "environment.size: a plaza needs a size",
+        ),
+        (
+            "[environment]\nkind = \"museum\"\nsize = [3, 4]\n".to_owned() + ONE,
+            "environment.size: only for kind = \"plaza\"",
+        ),
+        (
+            "[environment]\nkind = \"plaza\"\n".to_owned() + &crowd.replace("count = 4", "count = 0"),
+            "crowd.count: must be a whole number from 1",
+        ),
+        (
+            "[environment]\nkind = \"plaza\"\n".to_owned()
+                + &crowd.replace("count = 4", "count = 4\nspacing = [0.5, -1]"),
+            "crowd.spacing: must be metres from 0.05 to 100, not -1",
+        ),
+        (
+            "[environment]\nkind = \"plaza\"\nsize = [20, 0]\n".to_owned() + crowd,
+            "environment.size: must be positive metres",
+        ),
+    ];
+    for (text, want) in cases {
+        let e = parse_error(&text);
+        assert!(e.starts_with("bad.toml:"), "{e}");
+        assert!(e.contains(want), "wanted {want:?} in {e:?}");
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
+
 #[test]
 fn one_thread_and_two_give_the_same_outcome() {
     let mut r = open_scenario(&root().join("scenarios/crowd.toml")).unwrap();
     r.frames = 12;
     r.methods = vec![Method::PlaneSpherePruned, Method::PrunedTriTri];
+    same_outcome_on_one_thread_and_two(r);
+}
+
+/// As above on a plaza of 120 characters: hundreds of passes a frame.
+#[test]
+fn one_thread_and_two_give_the_same_outcome_on_a_plaza() {
+    let s = Scenario::parse(&plaza(120, 1500, 0.5, 3), Path::new("plaza.toml")).unwrap();
+    let mut r = cornertree_workbench::scenario::resolve(&s, Path::new(".")).unwrap();
+    r.methods = vec![Method::PlaneSpherePruned, Method::UndividedPrunedTriTri];
+    same_outcome_on_one_thread_and_two(r);
+}
+
+fn same_outcome_on_one_thread_and_two(r: cornertree_workbench::scenario::Resolved) {
     let mut one = Session::new(r.clone(), 1).unwrap();
     let mut two = Session::new(r, 2).unwrap();
     let mut character_pairs = 0;

@@ -6,7 +6,11 @@
 //! ([`ParryWorld`]). Each method runs [`Session::detect`] (refit on
 //! demand, traversal, skinning only the vertices its narrow phase reads, the
 //! narrow phase, every pair kind) on all of the world's threads and again on
-//! one thread, which gives its parallel speed-up in the same run.
+//! one thread, which gives its parallel speed-up in the same run. The
+//! baseline runs on the same threads before a method's all-thread run and on
+//! one thread before its one-thread run, so each speed-up compares equal
+//! threads (the one-thread baseline over the all-thread method is kept
+//! beside them, labelled).
 //!
 //! Every run of a method comes right after a run of the baseline's frame,
 //! and every run of the baseline after a method's: each side is measured
@@ -37,8 +41,23 @@ pub struct MethodBench {
     pub ms_per_frame_one_thread: f64,
     /// `ms_per_frame_one_thread / ms_per_frame`.
     pub parallel_speedup: f64,
-    /// parry's median over this method's (all threads).
+    /// parry on the same threads over this method on all threads: same
+    /// threads against same threads.
+    pub speedup_vs_parry_same_threads: f64,
+    /// parry on one thread over this method on one thread.
+    pub speedup_vs_parry_one_thread: f64,
+    /// parry on one thread over this method on all threads (a pairing of
+    /// unequal threads, kept for older reports).
     pub speedup_vs_parry: f64,
+    /// Median work of the one-thread frames: every pass's time and the
+    /// step's own, in milliseconds ([`StepContacts::work_ms`]).
+    pub work_ms: f64,
+    /// Median span of the one-thread frames: the longest chain of that work
+    /// that must run one after another ([`StepContacts::span_ms`]).
+    pub span_ms: f64,
+    /// Median of work over span per frame: how many threads the frame could
+    /// keep busy.
+    pub available_parallelism: f64,
     pub operations_per_frame: f64,
     /// Median of the method's own skinning (the vertices it tested; summed
     /// over threads).
@@ -55,7 +74,8 @@ pub struct Bench {
     pub scenario: String,
     pub frames: usize,
     pub dedup: bool,
-    /// Threads of the methods' frames (the baseline runs on one).
+    /// Threads of the methods' frames and of the baseline's same-thread
+    /// frames.
     pub threads: usize,
     pub characters: usize,
     pub objects: usize,
@@ -67,9 +87,13 @@ pub struct Bench {
     /// The least signed distance of its vertices to that surface's plane
     /// over the clip (negative: that deep behind it).
     pub deepest_metres: Option<f32>,
-    /// Median over the baseline's runs (one before each run of a method,
-    /// posing included).
+    /// Median over the baseline's one-thread runs (one before each
+    /// one-thread run of a method, posing included).
     pub parry_ms_per_frame: f64,
+    /// Median over the baseline's runs on the methods' threads (one before
+    /// each all-thread run of a method; posing, skinning, `update_vertices`
+    /// and the body pairs on the pool).
+    pub parry_ms_per_frame_same_threads: f64,
     /// Leaf pairs parry's traversals yielded per frame (mean).
     pub parry_candidates_per_frame: f64,
     /// Posing (joint matrices, object poses) on every thread, in each
@@ -78,7 +102,7 @@ pub struct Bench {
     /// Posing on one thread, in each method's one-thread time and the
     /// baseline's.
     pub pose_ms_per_frame_one_thread: f64,
-    /// Skinning every vertex, in the baseline's time.
+    /// Skinning every vertex on one thread, in the baseline's time.
     pub skinning_all_ms_per_frame: f64,
     pub methods: Vec<MethodBench>,
 }
@@ -127,11 +151,15 @@ pub fn measure(
     let mut pose_ms = Vec::with_capacity(frames * n);
     let mut pose_one_ms = Vec::with_capacity(frames * n.max(1));
     let mut skin_all_ms = Vec::with_capacity(frames * (2 * n).max(1));
-    let mut parry_ms = Vec::with_capacity(frames * (2 * n).max(1));
+    let mut parry_ms = Vec::with_capacity(frames * n.max(1));
+    let mut parry_threads_ms = Vec::with_capacity(frames * n);
     let mut parry_candidates = 0u64;
     let mut all_ms = vec![Vec::with_capacity(frames); n];
     let mut one_ms = vec![Vec::with_capacity(frames); n];
     let mut skin_ms = vec![Vec::with_capacity(frames); n];
+    let mut work_ms = vec![Vec::with_capacity(frames); n];
+    let mut span_ms = vec![Vec::with_capacity(frames); n];
+    let mut parallelism = vec![Vec::with_capacity(frames); n];
     let (mut ops, mut skinned, mut pairs) = (vec![0u64; n], vec![0u64; n], vec![0u64; n]);
     let mut differ = vec![0usize; n];
     // The baseline's frame `k`, posed on its one thread (its time, posing
@@ -148,10 +176,30 @@ pub fn measure(
         parry_ms.push(pose + t0.elapsed().as_secs_f64() * 1e3);
         Ok::<f64, BenchError>(pose)
     };
+    // The baseline's frame `k` on the session's threads: posing, skinning,
+    // `update_vertices` and the body pairs on the pool.
+    let mut parry_frame_on_threads = |world: &mut Session, parry: &mut ParryWorld, k: usize| {
+        world.pose(k);
+        let pose = world.pose_ms;
+        let t0 = Instant::now();
+        world.in_pool(|w| {
+            w.skin_all_on_threads();
+            parry.update_on_threads(&w.buffers, &w.object_poses)?;
+            parry.detect_on_threads();
+            Ok::<(), BenchError>(())
+        })?;
+        parry_threads_ms.push(pose + t0.elapsed().as_secs_f64() * 1e3);
+        Ok::<(), BenchError>(())
+    };
     for k in 0..frames {
         for i in 0..n {
             for one_thread in [k % 2 == 0, k % 2 != 0] {
-                parry_frame(&mut world, &mut parry, k)?;
+                // The baseline on the threads the method's run is on.
+                if one_thread {
+                    parry_frame(&mut world, &mut parry, k)?;
+                } else {
+                    parry_frame_on_threads(&mut world, &mut parry, k)?;
+                }
                 // Posed again after the baseline's frame, as that frame
                 // leaves the caches, on the threads the method runs on.
                 if one_thread {
@@ -168,6 +216,9 @@ pub fn measure(
                 let ms = pose + world.detect_ms(i);
                 if one_thread {
                     one_ms[i].push(ms);
+                    work_ms[i].push(o.work_ms);
+                    span_ms[i].push(o.span_ms);
+                    parallelism[i].push(o.available_parallelism());
                 } else {
                     all_ms[i].push(ms);
                     skin_ms[i].push(o.total.time.skinning_ms);
@@ -191,6 +242,7 @@ pub fn measure(
     }
     let per_frame = |x: u64| x as f64 / frames.max(1) as f64;
     let parry_median = median(&mut parry_ms);
+    let parry_threads_median = median(&mut parry_threads_ms);
     let methods = (0..n)
         .map(|i| {
             let all = median(&mut all_ms[i]);
@@ -201,7 +253,12 @@ pub fn measure(
                 ms_per_frame: all,
                 ms_per_frame_one_thread: one,
                 parallel_speedup: ratio(one, all),
+                speedup_vs_parry_same_threads: ratio(parry_threads_median, all),
+                speedup_vs_parry_one_thread: ratio(parry_median, one),
                 speedup_vs_parry: ratio(parry_median, all),
+                work_ms: median(&mut work_ms[i]),
+                span_ms: median(&mut span_ms[i]),
+                available_parallelism: median(&mut parallelism[i]),
                 operations_per_frame: per_frame(ops[i]),
                 skinning_ms_per_frame: median(&mut skin_ms[i]),
                 skinned_vertices_per_frame: per_frame(skinned[i]),
@@ -235,6 +292,7 @@ pub fn measure(
             .and_then(|a| a.gap.as_ref())
             .map(|g| g.achieved),
         parry_ms_per_frame: parry_median,
+        parry_ms_per_frame_same_threads: parry_threads_median,
         parry_candidates_per_frame: per_frame(parry_candidates),
         pose_ms_per_frame: median(&mut pose_ms),
         pose_ms_per_frame_one_thread: median(&mut pose_one_ms),

@@ -47,13 +47,13 @@ pub fn sized(
         match &mut s.environment {
             EnvironmentSection::Museum { vertices, .. }
             | EnvironmentSection::LivingRoom { vertices, .. } => *vertices = Some(n),
-            EnvironmentSection::Gltf { .. } => {
+            EnvironmentSection::Gltf { .. } | EnvironmentSection::Plaza { .. } => {
                 return Err(ScenarioError::new(
                     base,
                     None,
                     Some("environment.kind"),
                     "the environment study needs a generated room (kind = \"museum\" or \
-                     \"living-room\"), not a glTF scene",
+                     \"living-room\"), not a glTF scene or a plaza",
                 ));
             }
         }
@@ -192,6 +192,9 @@ pub fn crowd(
     vertices: usize,
     limits: &RunLimits,
 ) -> Result<Resolved, ScenarioError> {
+    if let Some(c) = &s.crowd {
+        return crowd_of_crowd(base, s, c, count, vertices, limits);
+    }
     let room = resolve_with(s, base_dir(base), limits)?;
     let slots = free_slots(&room.environment);
     if count > slots.len() {
@@ -201,7 +204,8 @@ pub fn crowd(
             Some("environment"),
             format!(
                 "the room has free floor for {} crowd members in lanes {LANE_SPACING} m apart, \
-                 not {count}",
+                 not {count} (a scenario with a [crowd] on a plaza holds any number: \
+                 scenarios/plaza_brushing.toml)",
                 slots.len()
             ),
         ));
@@ -241,5 +245,29 @@ pub fn crowd(
             }
         })
         .collect();
+    resolve_with(&s, base_dir(base), limits)
+}
+
+/// The base scenario's `[crowd]` grown or shrunk to `count` instances of the
+/// generated humanoid of `vertices` vertices (its seed, or the crowd
+/// study's), same spacing, same clip: the same layout at every count, on a
+/// plaza sized to it unless the base gives the plaza's size.
+fn crowd_of_crowd(
+    base: &Path,
+    s: &Scenario,
+    c: &crate::scenario::crowd::Crowd,
+    count: usize,
+    vertices: usize,
+    limits: &RunLimits,
+) -> Result<Resolved, ScenarioError> {
+    let mut s = s.clone();
+    let mut c = c.clone();
+    let seed = match &c.character.source {
+        CharacterSource::Humanoid(h) => h.seed,
+        CharacterSource::File(_) => CROWD_SEED,
+    };
+    c.character.source = CharacterSource::Humanoid(HumanoidParams { vertices, seed });
+    c.count = count;
+    s.set_crowd(c);
     resolve_with(&s, base_dir(base), limits)
 }

@@ -362,6 +362,36 @@ impl FrameLoop<'_> {
     }
 }
 
+/// The characters by name and size: each one, or for more than 8 the first
+/// and last with their count per size (a crowd of a thousand is one line).
+fn character_list(scene: &cornertree_workbench::scenario::Resolved) -> String {
+    let one = |a: &cornertree_workbench::scenario::Actor| {
+        format!("{}: {} vertices", a.name, a.character.mesh.vertex_count())
+    };
+    let cs = &scene.characters;
+    if cs.len() <= 8 {
+        return cs.iter().map(one).collect::<Vec<_>>().join(", ");
+    }
+    let mut sizes: Vec<(usize, usize)> = Vec::new();
+    for a in cs {
+        let v = a.character.mesh.vertex_count();
+        match sizes.iter_mut().find(|(s, _)| *s == v) {
+            Some((_, n)) => *n += 1,
+            None => sizes.push((v, 1)),
+        }
+    }
+    let by_size = sizes
+        .iter()
+        .map(|(v, n)| format!("{n} of {v} vertices"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    format!(
+        "{} … {}: {by_size}",
+        cs[0].name,
+        cs[cs.len() - 1].name
+    )
+}
+
 /// The run's first lines: what was played, and the placements.
 fn header(name: &str, session: &Session, played: usize, stopped: Option<&str>) -> String {
     let scene = &session.scene;
@@ -376,12 +406,7 @@ fn header(name: &str, session: &Session, played: usize, stopped: Option<&str>) -
         format!(
             "{name}: {} characters ({}), {} moving objects in {} ({} triangles), {played} frames at {} fps on {} threads{dedup}\n",
             scene.characters.len(),
-            scene
-                .characters
-                .iter()
-                .map(|a| format!("{}: {} vertices", a.name, a.character.mesh.vertex_count()))
-                .collect::<Vec<_>>()
-                .join(", "),
+            character_list(scene),
             scene.objects.len(),
             scene.environment.name,
             env.triangle_count(),

@@ -19,9 +19,10 @@ const CHARACTER_VERTICES: [usize; 4] = [3_000, 10_000, 44_345, 100_000];
 /// Environment sizes: about 10k, 133k (the paper's living room) and 500k.
 const ENVIRONMENT_VERTICES: [usize; 3] = [10_000, 133_139, 500_000];
 /// Gaps of the contact sweep (metres): from a near miss 5 cm away to 5 cm
-/// deep, a centimetre apart.
-const CONTACT_GAPS: [f32; 11] = [
-    0.05, 0.04, 0.03, 0.02, 0.01, 0.0, -0.01, -0.02, -0.03, -0.04, -0.05,
+/// deep a centimetre apart, then 10, 15 and 20 cm deep (a character inside
+/// furniture).
+const CONTACT_GAPS: [f32; 14] = [
+    0.05, 0.04, 0.03, 0.02, 0.01, 0.0, -0.01, -0.02, -0.03, -0.04, -0.05, -0.10, -0.15, -0.20,
 ];
 
 #[derive(clap::Args)]
@@ -55,7 +56,8 @@ pub struct ScalingArgs {
     pub memory_budget: f64,
     /// Contact sweep: the base scenario's character kept 5 cm to -5 cm from
     /// its gap surface (the south wall if it keeps none), a centimetre apart,
-    /// so the speed-up over parry is seen from near miss to deep contact.
+    /// then -10, -15 and -20 cm, so the speed-up over parry is seen from near
+    /// miss to deep contact.
     #[arg(long)]
     pub contact_sweep: bool,
     /// Gaps of the contact sweep, metres (comma-separated; negative: that
@@ -74,6 +76,8 @@ pub struct ScalingArgs {
 struct Scaling {
     base_scenario: String,
     frames: u64,
+    /// Threads of the methods' frames and of the baseline.
+    threads: usize,
     by_character: Vec<Bench>,
     by_environment: Vec<Bench>,
     by_characters_count: Vec<Bench>,
@@ -214,9 +218,14 @@ fn measure_studies(
         by_characters_count,
         by_contact_gap,
     ] = by;
+    let threads = [&by_character, &by_environment, &by_characters_count, &by_contact_gap]
+        .iter()
+        .find_map(|v| v.first())
+        .map_or(args.threads, |b| b.threads);
     Ok(Scaling {
         base_scenario: name,
         frames,
+        threads,
         by_character,
         by_environment,
         by_characters_count,
@@ -243,9 +252,10 @@ fn tables(args: &ScalingArgs, result: &Scaling, methods: &[Method]) -> String {
         }),
     ];
     let mut out = format!(
-        "Median ms per frame over {} frames of {} (de-duplication {}; speed-up over parry3d in brackets)\n",
+        "Median ms per frame over {} frames of {} on {} threads (de-duplication {}; speed-up over parry3d on the same threads in brackets)\n",
         result.frames,
         result.base_scenario,
+        result.threads,
         match args.common.dedup_override() {
             Some(true) => "on",
             _ => "off",

@@ -7,6 +7,7 @@
 //! |---|---|
 //! | [`museum`](mod@museum) | [`museum()`]: a 20 m × 12 m × 5 m gallery, 9,482 vertices |
 //! | [`living_room`](mod@living_room) | [`living_room()`]: an 8 m × 6 m × 2.7 m living/dining room, 133,139 vertices |
+//! | [`plaza`](mod@plaza) | [`plaza()`]: an open floor of big triangles for crowds, sized to them |
 //! | [`scene`] | [`load_scene`]: a static glTF scene as an environment, degenerate triangles removed |
 //! | `build` | shapes, the tessellation plan that meets a vertex target, the mesh builder (private) |
 //! | `subdivide` | [`Environment::subdivide_object`]: one object's triangles split at edge midpoints (an experiment knob) |
@@ -61,6 +62,7 @@
 mod build;
 pub mod living_room;
 pub mod museum;
+pub mod plaza;
 pub mod scene;
 mod subdivide;
 
@@ -75,6 +77,7 @@ use cornertree::mesh::{TriMesh, TriangleId};
 pub use build::MAX_VERTICES;
 pub use living_room::{LIVING_ROOM_VERTICES, living_room, living_room_scaled};
 pub use museum::{MUSEUM_VERTICES, museum, museum_scaled};
+pub use plaza::plaza;
 pub use scene::{SceneError, SceneReport, load_scene, load_scene_with};
 pub use subdivide::{MAX_SUBDIVIDED_TRIANGLES, SubdivideError};
 

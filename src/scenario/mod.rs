@@ -17,6 +17,7 @@
 //! offending line instead of a field). Nothing here panics on bad input.
 
 pub mod budget;
+pub mod crowd;
 pub mod motion;
 pub mod objects;
 pub mod ranges;
@@ -52,6 +53,9 @@ pub struct Scenario {
     /// `[[characters]]`, or the one `[character]` with its `[placement]`
     /// (named `"character"`); never empty.
     pub characters: Vec<CharacterEntry>,
+    /// `[crowd]`, when the characters are one (then `characters` lists its
+    /// instances; change the crowd and call [`Scenario::set_crowd`]).
+    pub crowd: Option<crowd::Crowd>,
     /// `[[objects]]`: rigid bodies moving through the room.
     pub objects: Vec<ObjectEntry>,
     pub environment: EnvironmentSection,
@@ -93,6 +97,13 @@ pub struct CharacterEntry {
 }
 
 impl Scenario {
+    /// Makes `crowd` the scenario's characters (its instances replace the
+    /// characters; a plaza without a size is sized to it).
+    pub fn set_crowd(&mut self, crowd: crowd::Crowd) {
+        self.characters = crowd.entries();
+        self.crowd = Some(crowd);
+    }
+
     /// The first character (a scenario has at least one).
     pub fn first_character(&self) -> &CharacterEntry {
         &self.characters[0]
@@ -140,6 +151,11 @@ pub enum EnvironmentSection {
     },
     Gltf {
         path: PathBuf,
+    },
+    /// An open floor ([`crate::environment::plaza()`]), `size` metres wide
+    /// (`x`) and deep (`z`); `None`: sized to the scenario's crowd.
+    Plaza {
+        size: Option<[Real; 2]>,
     },
 }
 
@@ -307,6 +323,7 @@ fn line_text(text: &str, offset: usize) -> String {
 struct RawScenario {
     character: Option<Spanned<RawCharacter>>,
     characters: Option<Vec<Spanned<RawCharacterEntry>>>,
+    crowd: Option<Spanned<crowd::RawCrowd>>,
     objects: Option<Vec<Spanned<objects::RawObject>>>,
     environment: Spanned<RawEnvironment>,
     placement: Option<Spanned<RawPlacement>>,
@@ -352,6 +369,7 @@ enum EnvKind {
     Museum,
     LivingRoom,
     Gltf,
+    Plaza,
 }
 
 #[derive(Deserialize)]
@@ -361,6 +379,7 @@ struct RawEnvironment {
     seed: Option<u64>,
     vertices: Option<Spanned<i64>>,
     path: Option<Spanned<String>>,
+    size: Option<Spanned<[f64; 2]>>,
     #[serde(default)]
     subdivide: Vec<RawSubdivide>,
     #[serde(default)]
@@ -435,8 +454,23 @@ impl Scenario {
         })?;
         let base = file.parent().unwrap_or(Path::new(""));
 
-        // The characters: `[character]` with `[placement]`, or `[[characters]]`.
+        // `[crowd]` alone, or the characters: `[character]` with
+        // `[placement]`, or `[[characters]]`.
+        let crowd = match raw.crowd {
+            None => None,
+            Some(c) => {
+                if raw.character.is_some() || raw.characters.is_some() {
+                    return Err(err_at(
+                        c.span(),
+                        "crowd",
+                        "give [crowd] alone, without [character] or [[characters]]".into(),
+                    ));
+                }
+                Some(crowd::parse_crowd(text, file, base, c.into_inner())?)
+            }
+        };
         let characters = match (raw.character, raw.characters) {
+            (None, None) if crowd.is_some() => crowd.as_ref().map(|c| c.entries()).unwrap_or_default(),
             (Some(c), None) => {
                 let Some(pl) = raw.placement else {
                     return Err(err_at(
@@ -543,7 +577,7 @@ impl Scenario {
                     file,
                     None,
                     Some("characters"),
-                    "no character: give [character] with [placement], or [[characters]]",
+                    "no character: give [character] with [placement], [[characters]] or [crowd]",
                 ));
             }
         };
@@ -568,7 +602,55 @@ impl Scenario {
             });
         }
         let doors = env.doors;
+        if let (Some(sz), false) = (&env.size, env.kind == EnvKind::Plaza) {
+            return Err(err_at(
+                sz.span(),
+                "environment.size",
+                "only for kind = \"plaza\"".into(),
+            ));
+        }
         let environment = match env.kind {
+            EnvKind::Plaza => {
+                for (given, field) in [
+                    (env.path.as_ref().map(|p| p.span()), "environment.path"),
+                    (env.vertices.as_ref().map(|v| v.span()), "environment.vertices"),
+                ] {
+                    if let Some(span) = given {
+                        return Err(err_at(span, field, "a plaza takes only a size".into()));
+                    }
+                }
+                if env.seed.is_some() {
+                    return Err(err_at(
+                        env_span,
+                        "environment.seed",
+                        "a plaza takes only a size".into(),
+                    ));
+                }
+                let size = match &env.size {
+                    None if crowd.is_none() => {
+                        return Err(err_at(
+                            env_span,
+                            "environment.size",
+                            "a plaza needs a size = [width, depth] in metres, or a [crowd] to be sized to".into(),
+                        ));
+                    }
+                    None => None,
+                    Some(sz) => {
+                        let mut out = [0.0; 2];
+                        for (o, &v) in out.iter_mut().zip(sz.get_ref()) {
+                            *o = ranges::above_zero(
+                                v,
+                                f64::from(crate::environment::plaza::MAX_SIDE),
+                                "metres",
+                            )
+                            .map_err(|m| err_at(sz.span(), "environment.size", m))?
+                                as Real;
+                        }
+                        Some(out)
+                    }
+                };
+                EnvironmentSection::Plaza { size }
+            }
             EnvKind::Museum | EnvKind::LivingRoom => {
                 if let Some(p) = &env.path {
                     return Err(err_at(
@@ -714,6 +796,7 @@ impl Scenario {
             ccd: raw.ccd.unwrap_or(false),
             ccd_substeps,
             subdivide,
+            crowd,
         })
     }
 }

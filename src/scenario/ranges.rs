@@ -26,9 +26,12 @@ pub const MAX_THRESHOLD: f64 = 1.0e6;
 /// Most sub-steps per frame step of continuous detection's ground truth
 /// (`ccd_substeps`; each costs an exact test per candidate pair).
 pub const MAX_CCD_SUBSTEPS: i64 = 65_536;
-/// Most characters and moving objects in one scenario (character pairs
-/// are tested pairwise each frame).
-pub const MAX_CHARACTERS: usize = 256;
+/// Most characters in one scenario's `[[characters]]` list, a cap on what
+/// is read before anything is charged; the memory budget, which charges
+/// every instance (`super::budget`), bounds real scenarios long before it.
+/// (Character pairs are found by a broad phase, not tested pairwise.)
+pub const MAX_CHARACTERS: usize = 1 << 20;
+/// Most moving objects in one scenario.
 pub const MAX_OBJECTS: usize = 1024;
 /// Most times one `[environment] subdivide` entry splits an object
 /// (`4^16` triangles per triangle is already past every budget).

@@ -401,6 +401,31 @@ pub fn resolve_with(
                     .map_err(|e| fail("environment.vertices", e.to_string()))?,
             }
         }
+        EnvironmentSection::Plaza { size } => {
+            let Some([w, d]) = size.or_else(|| s.crowd.as_ref().map(|c| c.extent())) else {
+                return Err(fail(
+                    "environment.size",
+                    "a plaza needs a size, or a [crowd] to be sized to".into(),
+                ));
+            };
+            let max = crate::environment::plaza::MAX_SIDE;
+            if !(w > 0.0 && d > 0.0 && w <= max && d <= max) {
+                return Err(fail(
+                    "crowd.count",
+                    format!(
+                        "the crowd needs a plaza of {w:.0} m × {d:.0} m, past the largest, {max:.0} m a side"
+                    ),
+                ));
+            }
+            let env = crate::environment::plaza(w, d);
+            let t = env.mesh.triangle_count();
+            budget
+                .charge(budget::static_mesh_bytes(t, methods, bodies), || {
+                    format!("a plaza of {t} triangles with {with_methods}' hierarchies")
+                })
+                .map_err(|m| fail("environment.size", m))?;
+            env
+        }
         EnvironmentSection::Gltf { path } => {
             let env = load_scene_with(&asset(base_dir, path), &load_limits(&budget))
                 .map_err(|e| fail("environment.path", e.to_string()))?

@@ -15,7 +15,12 @@
 //!   candidate triangle pairs and parry's `f32` `intersection_test`
 //!   ([`parry_triangles_intersect`]) decides each.
 //!
-//! One thread: parry offers no parallel traversal of its own.
+//! parry offers no parallel traversal of its own. On one thread it is
+//! [`ParryWorld::update`] and [`ParryWorld::detect`]; on the caller's rayon
+//! pool, as a user with cores to spare would write it, the characters'
+//! `update_vertices` run side by side ([`ParryWorld::update_on_threads`]) and
+//! so do the characters' body pairs, each character's pairs one task
+//! ([`ParryWorld::detect_on_threads`]).
 
 use nalgebra::Isometry3;
 use parry3d::bounding_volume::BoundingVolume;
@@ -99,28 +104,30 @@ impl ParryWorld {
             .zip(&self.character_indices)
             .zip(buffers)
         {
-            let positions = &b.positions;
-            if let Some(v) = positions
-                .iter()
-                .position(|p| !p.iter().all(|c| c.is_finite()))
-            {
-                return Err(TruthError::NonFinitePosition(v));
-            }
-            match slot {
-                Some(mesh) => mesh.update_vertices(|vs| {
-                    for (v, p) in vs.iter_mut().zip(positions) {
-                        *v = to_parry(p);
-                    }
-                }),
-                None => {
-                    let vertices = positions.iter().map(to_parry).collect();
-                    *slot = Some(
-                        ParryMesh::with_flags(vertices, indices.clone(), TriMeshFlags::DEFORMABLE)
-                            .map_err(|_| TruthError::NoTriangles("character"))?,
-                    );
-                }
-            }
+            update_character(slot, indices, b)?;
         }
+        self.update_objects(poses);
+        Ok(())
+    }
+
+    /// [`Self::update`] with the characters side by side on the current
+    /// rayon pool.
+    pub fn update_on_threads(
+        &mut self,
+        buffers: &[PoseBuffers],
+        poses: &[Isometry3<f32>],
+    ) -> Result<(), TruthError> {
+        use rayon::prelude::*;
+        self.characters
+            .par_iter_mut()
+            .zip(&self.character_indices)
+            .zip(buffers)
+            .try_for_each(|((slot, indices), b)| update_character(slot, indices, b))?;
+        self.update_objects(poses);
+        Ok(())
+    }
+
+    fn update_objects(&mut self, poses: &[Isometry3<f32>]) {
         for ((mesh, rest), pose) in self.objects.iter_mut().zip(&self.object_rest).zip(poses) {
             mesh.update_vertices(|vs| {
                 for (v, p) in vs.iter_mut().zip(rest) {
@@ -128,83 +135,173 @@ impl ParryWorld {
                 }
             });
         }
-        Ok(())
     }
 
     /// The colliding pairs of every kind for the last [`Self::update`], by
     /// parry's `f32` triangle test, into [`Self::pairs`].
     pub fn detect(&mut self) {
+        // Last frame's lists, emptied: one thread reuses them.
+        let mut found = Found {
+            pairs: std::mem::take(&mut self.pairs),
+            ..Found::default()
+        };
+        found.pairs.environment.clear();
+        found.pairs.objects.clear();
+        found.pairs.characters.clear();
+        for i in 0..self.characters.len() {
+            self.detect_character(i, &mut found);
+        }
+        self.keep(found);
+    }
+
+    /// [`Self::detect`] on the current rayon pool: each character's body
+    /// pairs (the room, the objects, the characters after it) one task.
+    pub fn detect_on_threads(&mut self) {
+        use rayon::prelude::*;
+        let this = &*self;
+        let found = (0..this.characters.len())
+            .into_par_iter()
+            .with_max_len(1)
+            .fold(Found::default, |mut f, i| {
+                this.detect_character(i, &mut f);
+                f
+            })
+            .reduce(Found::default, Found::join);
+        self.keep(found);
+    }
+
+    /// Keeps `found` as this frame's pairs, sorted.
+    fn keep(&mut self, found: Found) {
+        let Found {
+            pairs,
+            candidates,
+            body_pairs,
+        } = found;
+        self.pairs = pairs;
+        self.candidates = candidates;
+        self.body_pairs = body_pairs;
+        let p = &mut self.pairs;
+        p.environment.sort_unstable();
+        p.environment.dedup();
+        p.objects.sort_unstable();
+        p.objects.dedup();
+        p.characters.sort_unstable();
+        p.characters.dedup();
+    }
+
+    /// Character `i` against the room, every object and every character
+    /// after it, into `out`.
+    fn detect_character(&self, i: usize, out: &mut Found) {
         let Self {
             room,
             objects,
             characters,
+            ..
+        } = self;
+        let Some(c) = &characters[i] else { return };
+        let Found {
             pairs,
             candidates,
             body_pairs,
-            ..
-        } = self;
-        pairs.environment.clear();
-        pairs.objects.clear();
-        pairs.characters.clear();
-        *candidates = 0;
-        *body_pairs = 0;
+        } = out;
         let overlap = |a: &BvhNode, b: &BvhNode| a.intersects(b);
-        for (i, c) in characters.iter().enumerate() {
-            let Some(c) = c else { continue };
-            let cbox = c.local_aabb();
+        let cbox = c.local_aabb();
+        *body_pairs += 1;
+        for (t, rt) in c.bvh().leaf_pairs(room.bvh(), overlap) {
+            *candidates += 1;
+            if parry_triangles_intersect(&c.triangle(t), &room.triangle(rt)) {
+                pairs.environment.push(RoomPair {
+                    character: CharacterHandle(i as u32),
+                    triangle: t,
+                    room: RoomHandle(0),
+                    room_triangle: rt,
+                });
+            }
+        }
+        for (o, obj) in objects.iter().enumerate() {
+            if !cbox.intersects(&obj.local_aabb()) {
+                continue;
+            }
             *body_pairs += 1;
-            for (t, rt) in c.bvh().leaf_pairs(room.bvh(), overlap) {
+            for (t, ot) in c.bvh().leaf_pairs(obj.bvh(), overlap) {
                 *candidates += 1;
-                if parry_triangles_intersect(&c.triangle(t), &room.triangle(rt)) {
-                    pairs.environment.push(RoomPair {
+                if parry_triangles_intersect(&c.triangle(t), &obj.triangle(ot)) {
+                    pairs.objects.push(ObjectPair {
                         character: CharacterHandle(i as u32),
                         triangle: t,
-                        room: RoomHandle(0),
-                        room_triangle: rt,
+                        object: ObjectHandle(o as u32),
+                        object_triangle: ot,
                     });
                 }
             }
-            for (o, obj) in objects.iter().enumerate() {
-                if !cbox.intersects(&obj.local_aabb()) {
-                    continue;
-                }
-                *body_pairs += 1;
-                for (t, ot) in c.bvh().leaf_pairs(obj.bvh(), overlap) {
-                    *candidates += 1;
-                    if parry_triangles_intersect(&c.triangle(t), &obj.triangle(ot)) {
-                        pairs.objects.push(ObjectPair {
-                            character: CharacterHandle(i as u32),
-                            triangle: t,
-                            object: ObjectHandle(o as u32),
-                            object_triangle: ot,
-                        });
-                    }
-                }
+        }
+        for (j, d) in characters.iter().enumerate().skip(i + 1) {
+            let Some(d) = d else { continue };
+            if !cbox.intersects(&d.local_aabb()) {
+                continue;
             }
-            for (j, d) in characters.iter().enumerate().skip(i + 1) {
-                let Some(d) = d else { continue };
-                if !cbox.intersects(&d.local_aabb()) {
-                    continue;
-                }
-                *body_pairs += 1;
-                for (ta, tb) in c.bvh().leaf_pairs(d.bvh(), overlap) {
-                    *candidates += 1;
-                    if parry_triangles_intersect(&c.triangle(ta), &d.triangle(tb)) {
-                        pairs.characters.push(CharacterPair {
-                            a: CharacterHandle(i as u32),
-                            triangle_a: ta,
-                            b: CharacterHandle(j as u32),
-                            triangle_b: tb,
-                        });
-                    }
+            *body_pairs += 1;
+            for (ta, tb) in c.bvh().leaf_pairs(d.bvh(), overlap) {
+                *candidates += 1;
+                if parry_triangles_intersect(&c.triangle(ta), &d.triangle(tb)) {
+                    pairs.characters.push(CharacterPair {
+                        a: CharacterHandle(i as u32),
+                        triangle_a: ta,
+                        b: CharacterHandle(j as u32),
+                        triangle_b: tb,
+                    });
                 }
             }
         }
-        pairs.environment.sort_unstable();
-        pairs.environment.dedup();
-        pairs.objects.sort_unstable();
-        pairs.objects.dedup();
-        pairs.characters.sort_unstable();
-        pairs.characters.dedup();
+    }
+}
+
+/// Character `slot`'s mesh moved to `b`'s skinned vertices (built on the
+/// first call).
+fn update_character(
+    slot: &mut Option<ParryMesh>,
+    indices: &[[u32; 3]],
+    b: &PoseBuffers,
+) -> Result<(), TruthError> {
+    let positions = &b.positions;
+    if let Some(v) = positions
+        .iter()
+        .position(|p| !p.iter().all(|c| c.is_finite()))
+    {
+        return Err(TruthError::NonFinitePosition(v));
+    }
+    match slot {
+        Some(mesh) => mesh.update_vertices(|vs| {
+            for (v, p) in vs.iter_mut().zip(positions) {
+                *v = to_parry(p);
+            }
+        }),
+        None => {
+            let vertices = positions.iter().map(to_parry).collect();
+            *slot = Some(
+                ParryMesh::with_flags(vertices, indices.to_vec(), TriMeshFlags::DEFORMABLE)
+                    .map_err(|_| TruthError::NoTriangles("character"))?,
+            );
+        }
+    }
+    Ok(())
+}
+
+/// What some characters' body pairs found (one thread's share).
+#[derive(Default)]
+struct Found {
+    pairs: WorldPairs,
+    candidates: u64,
+    body_pairs: u64,
+}
+
+impl Found {
+    fn join(mut self, other: Found) -> Found {
+        self.pairs.environment.extend(other.pairs.environment);
+        self.pairs.objects.extend(other.pairs.objects);
+        self.pairs.characters.extend(other.pairs.characters);
+        self.candidates += other.candidates;
+        self.body_pairs += other.body_pairs;
+        self
     }
 }

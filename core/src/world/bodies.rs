@@ -64,6 +64,8 @@ pub(crate) struct OwnPasses {
     pub(crate) broad_phase_tests: u64,
     pub(crate) body_pairs: u64,
     pub(crate) ccd: CcdCounters,
+    /// Seconds the step's start took (stale marks, the root sphere's refit).
+    pub(crate) start_seconds: f32,
 }
 
 impl OwnPasses {

@@ -24,6 +24,7 @@ use super::contacts::StepContacts;
 use super::continuous_state::ContinuousState;
 use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
+use super::broad_phase::SortAndSweep;
 use super::pass_graph::PassGraph;
 use super::pass_pool::PassPool;
 
@@ -151,6 +152,10 @@ pub struct CollisionWorld {
     pub(crate) characters: Vec<Mutex<CharacterBody>>,
     /// Character pairs whose roots met this step, `(i, j)` with `i < j`.
     pub(crate) candidates: Vec<(u32, u32)>,
+    /// Each character's root sphere this step, for the broad phase.
+    pub(crate) character_roots: Vec<Option<Sphere>>,
+    /// The broad phase between characters.
+    pub(crate) broad_phase: SortAndSweep,
     pub(crate) pairs: Vec<Mutex<PairState>>,
     /// The step's passes and the order they may run in.
     pub(crate) graph: PassGraph,
@@ -231,6 +236,8 @@ impl CollisionWorld {
             object_roots: Vec::new(),
             characters: Vec::new(),
             candidates: Vec::new(),
+            character_roots: Vec::new(),
+            broad_phase: SortAndSweep::new(),
             pairs: Vec::new(),
             graph: PassGraph::new(0),
             lent: PassPool::default(),

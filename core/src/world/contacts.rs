@@ -194,6 +194,17 @@ pub struct Contacts<D: Detection> {
     pub body_pairs: u64,
     /// Wall-clock milliseconds of the step.
     pub wall_ms: f64,
+    /// Milliseconds of work in the step: every pass's time and the step's
+    /// own (every character's start, the broad phase, the gathering of the
+    /// contacts), as one thread would take them. Discrete steps only (0 for
+    /// sweeps).
+    pub work_ms: f64,
+    /// Milliseconds of the step's span: the longest chain of its work that
+    /// must run one after another (the slowest character's start, the broad
+    /// phase, the character whose passes together took longest, since they
+    /// run one at a time, and the gathering). No number of threads finishes
+    /// the step sooner. Discrete steps only.
+    pub span_ms: f64,
     /// Character–room contacts, sorted.
     pub room_pairs: Vec<D::Pair<RoomPair>>,
     /// Character–object contacts, sorted.
@@ -211,6 +222,8 @@ impl<D: Detection> Default for Contacts<D> {
             broad_phase_tests: 0,
             body_pairs: 0,
             wall_ms: 0.0,
+            work_ms: 0.0,
+            span_ms: 0.0,
             room_pairs: Vec::new(),
             object_pairs: Vec::new(),
             character_pairs: Vec::new(),
@@ -257,6 +270,16 @@ impl<D: Detection> Contacts<D> {
         })
     }
 
+    /// [`Self::work_ms`] over [`Self::span_ms`]: how many threads the step
+    /// could keep busy (0 when not measured).
+    pub fn available_parallelism(&self) -> f64 {
+        if self.span_ms > 0.0 {
+            self.work_ms / self.span_ms
+        } else {
+            0.0
+        }
+    }
+
     /// Contacts of every kind.
     pub fn len(&self) -> usize {
         self.room_pairs.len() + self.object_pairs.len() + self.character_pairs.len()
@@ -287,6 +310,8 @@ impl<D: Detection> Contacts<D> {
         self.broad_phase_tests = 0;
         self.body_pairs = 0;
         self.wall_ms = 0.0;
+        self.work_ms = 0.0;
+        self.span_ms = 0.0;
         self.room_pairs.clear();
         self.object_pairs.clear();
         self.character_pairs.clear();

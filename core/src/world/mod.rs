@@ -13,11 +13,13 @@
 //! | [`handles`] | [`RoomHandle`], [`ObjectHandle`], [`CharacterHandle`] |
 //! | [`error`] | [`WorldError`]: the caller's bad data, named |
 //! | `bodies` | what each body keeps between steps |
+//! | [`broad_phase`] | which bodies' root spheres meet: sort and sweep, and every pair as its reference |
 //! | `pass_pool` | what a pass needs only while it runs (marks, scratch), one set per thread, not per body |
 //! | `pass_graph` | a step's passes on every thread, a character's own passes before its pairs, one pass per character at a time |
 //! | [`pinning`] | opt-in: each thread of a pool on a processor of its own (Linux) |
 
 pub(crate) mod bodies;
+pub mod broad_phase;
 pub mod character_model;
 pub mod collision_world;
 pub mod contacts;

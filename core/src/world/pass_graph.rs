@@ -11,11 +11,16 @@
 //! they ran in. (A fixed order per character, kept before, serialised the
 //! pairs behind the heaviest one: `docs/performance-journal.md`, "All cores".)
 //!
-//! Which free pass a thread takes is a matter of speed only: the one on the
-//! character with the most estimated work not yet started (last frame's
-//! times), so the longest chain starts first. Nothing here allocates once
-//! the first frame has sized it.
+//! Which free pass a thread takes is a matter of speed only: the one whose
+//! characters had the most estimated work at the frame's start (last
+//! frame's times), so the longest chain starts first. Taking one is a heap
+//! pop (a pair enters the heap when both its characters' own passes are
+//! done), so a frame of `p` passes costs `p log p` to schedule, not `p²`:
+//! a crowd of thousands has thousands of pairs. Nothing here allocates
+//! once a frame as large has sized it.
 
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 use std::sync::Mutex;
 use std::time::Instant;
 
@@ -24,47 +29,69 @@ use std::time::Instant;
 #[derive(Default)]
 pub struct PassGraph {
     characters: usize,
-    /// This frame's pairs, in pass order.
+    /// This frame's pairs, in pass order (ascending).
     pairs: Vec<(u32, u32)>,
+    /// Last frame's pairs (ascending) and each one's measured seconds: this
+    /// frame's estimates.
+    last_pairs: Vec<(u32, u32)>,
+    last_pair_costs: Vec<f32>,
+    /// Last measured seconds of each character's own pass.
+    own_costs: Vec<f32>,
     /// Who may run what, while running.
     state: Mutex<Schedule>,
+    /// The last frame's work and span, seconds ([`PassGraph::work_span`]).
+    work: f64,
+    span: f64,
 }
 
-/// The run's bookkeeping, behind one lock (a frame has a few dozen passes
-/// of microseconds each: the lock is not where time goes).
+/// Where a free pass ranks: the most estimated work its characters had at
+/// the frame's start (the longer chain first), then its own estimated
+/// cost, then the earlier pass. Seconds as `f32` bits (never negative, so
+/// they order as the numbers do).
+type Rank = (u32, u32, Reverse<u32>);
+
+/// The run's bookkeeping, behind one lock (a pass is tens of microseconds
+/// or more; taking one is a heap pop: the lock is not where time goes).
 #[derive(Default)]
 struct Schedule {
-    /// Passes not started yet.
-    open: Vec<u32>,
+    /// Characters' own passes, best first; those before `own_next` have
+    /// started. (An own pass is always free to start: nothing else holds
+    /// its character before it ends.)
+    own_order: Vec<u32>,
+    own_next: usize,
+    /// Pairs whose characters have both had their own pass, not started.
+    ready: BinaryHeap<(Rank, u32)>,
+    /// Ready pairs set aside while their characters are held.
+    held: Vec<(Rank, u32)>,
     /// Per character: a pass holding it is running.
     busy: Vec<bool>,
     /// Per character: its own pass is done.
     own_done: Vec<bool>,
-    /// Per character: estimated seconds of its passes not started yet.
-    remaining: Vec<f32>,
+    /// Per character: its pairs' passes, `pair_passes[pairs_from[c]..pairs_from[c + 1]]`.
+    pairs_from: Vec<u32>,
+    pair_passes: Vec<u32>,
+    /// Per pass: estimated seconds at the start, measured once it ran.
+    costs: Vec<f32>,
+    /// Per character: estimated seconds of all its passes at the start.
+    chain: Vec<f32>,
     /// Passes done.
     done: usize,
-    /// Last measured seconds of each character's own pass and of each pair
-    /// ([`PassGraph::cost_index`]); a pass's entry is updated when it ends,
-    /// and not read again in its frame.
-    costs: Vec<f32>,
 }
 
 impl PassGraph {
-    /// A graph for `n` characters, sized for every pair.
+    /// A graph for `n` characters.
     pub fn new(n: usize) -> Self {
-        let most = n + n * n.saturating_sub(1) / 2;
         Self {
             characters: n,
-            pairs: Vec::with_capacity(most - n),
+            own_costs: vec![0.0; n],
             state: Mutex::new(Schedule {
-                open: Vec::with_capacity(most),
                 busy: vec![false; n],
                 own_done: vec![false; n],
-                remaining: vec![0.0; n],
-                done: 0,
-                costs: vec![0.0; n + n * n],
+                chain: vec![0.0; n],
+                pairs_from: vec![0; n + 1],
+                ..Schedule::default()
             }),
+            ..Self::default()
         }
     }
 
@@ -73,11 +100,12 @@ impl PassGraph {
         self.characters
     }
 
-    /// Sets this frame's character pairs, `(i, j)` with `i < j`, each
-    /// character at most once with each other.
+    /// Sets this frame's character pairs, `(i, j)` with `i < j`, ascending,
+    /// each character at most once with each other.
     pub fn set_pairs(&mut self, pairs: impl IntoIterator<Item = (u32, u32)>) {
         self.pairs.clear();
         self.pairs.extend(pairs);
+        debug_assert!(self.pairs.windows(2).all(|w| w[0] < w[1]));
     }
 
     /// Passes this frame.
@@ -90,13 +118,11 @@ impl PassGraph {
         t.checked_sub(self.characters).map(|k| self.pairs[k])
     }
 
-    /// Where pass `t`'s last measured cost is kept in `costs` (a pair's
-    /// slot belongs to the two characters, whichever frame lists them).
-    fn cost_index(&self, t: usize) -> usize {
-        match self.pair(t) {
-            None => t,
-            Some((i, j)) => self.characters * (1 + i as usize) + j as usize,
-        }
+    /// The last frame's work (the sum of every pass's seconds) and span (the
+    /// most seconds one character's passes took: they run one at a time, so
+    /// no number of threads finishes the frame's passes sooner).
+    pub fn work_span(&self) -> (f64, f64) {
+        (self.work, self.span)
     }
 
     /// The characters pass `t` holds (the second is the first again for a
@@ -108,28 +134,75 @@ impl PassGraph {
         }
     }
 
+    /// Sets every pass's estimate, the characters' chains, who holds which
+    /// pair and the order of the own passes.
+    fn plan(&mut self) {
+        let n = self.characters;
+        let st = self.state.get_mut().expect("no pass panicked");
+        st.costs.clear();
+        st.costs.extend_from_slice(&self.own_costs);
+        // Last frame's measured cost of each pair listed again (both lists
+        // ascending: one walk).
+        let mut k = 0;
+        for p in &self.pairs {
+            while k < self.last_pairs.len() && self.last_pairs[k] < *p {
+                k += 1;
+            }
+            let known = k < self.last_pairs.len() && self.last_pairs[k] == *p;
+            st.costs
+                .push(if known { self.last_pair_costs[k] } else { 0.0 });
+        }
+        st.chain.copy_from_slice(&self.own_costs);
+        st.pairs_from.iter_mut().for_each(|c| *c = 0);
+        for (k, &(i, j)) in self.pairs.iter().enumerate() {
+            let cost = st.costs[n + k];
+            st.chain[i as usize] += cost;
+            st.chain[j as usize] += cost;
+            st.pairs_from[i as usize + 1] += 1;
+            st.pairs_from[j as usize + 1] += 1;
+        }
+        for c in 0..n {
+            st.pairs_from[c + 1] += st.pairs_from[c];
+        }
+        st.pair_passes.clear();
+        st.pair_passes.resize(2 * self.pairs.len(), 0);
+        // `pairs_from[c + 1]` is the end of c's run: fill each run from its
+        // end backwards, which leaves `pairs_from[c + 1]` at c's start;
+        // shifting by one then gives every start, and the end.
+        for (k, &(i, j)) in self.pairs.iter().enumerate().rev() {
+            for c in [i as usize, j as usize] {
+                let end = &mut st.pairs_from[c + 1];
+                *end -= 1;
+                st.pair_passes[*end as usize] = (n + k) as u32;
+            }
+        }
+        st.pairs_from.rotate_left(1);
+        st.pairs_from[n] = (2 * self.pairs.len()) as u32;
+        st.own_order.clear();
+        st.own_order.extend(0..n as u32);
+        let (chain, costs) = (&st.chain, &st.costs);
+        st.own_order.sort_unstable_by_key(|&t| {
+            Reverse((chain[t as usize].to_bits(), costs[t as usize].to_bits(), Reverse(t)))
+        });
+        st.own_next = 0;
+        // Sized for every pair: how many wait at once depends on the
+        // threads' timing, which must not decide whether a frame allocates.
+        st.ready.clear();
+        st.ready.reserve(self.pairs.len());
+        st.held.clear();
+        st.held.reserve(self.pairs.len());
+        st.busy.iter_mut().for_each(|b| *b = false);
+        st.own_done.iter_mut().for_each(|d| *d = false);
+        st.done = 0;
+    }
+
     /// Runs every pass with `run(t, pair)` (`pair` as [`PassGraph::pair`]
     /// says), on every thread of the current rayon pool: a character's own
     /// pass before its pairs, no two passes of one character at once.
     /// Returns when all are done.
     pub fn run(&mut self, run: impl Fn(usize, Option<(u32, u32)>) + Sync) {
         let total = self.len();
-        let mut st = self.state.lock().expect("no pass panicked");
-        st.open.clear();
-        st.open.extend(0..total as u32);
-        st.busy.iter_mut().for_each(|b| *b = false);
-        st.own_done.iter_mut().for_each(|d| *d = false);
-        st.remaining.iter_mut().for_each(|r| *r = 0.0);
-        for t in 0..total {
-            let (i, j) = self.holds(t);
-            let c = st.costs[self.cost_index(t)];
-            st.remaining[i] += c;
-            if j != i {
-                st.remaining[j] += c;
-            }
-        }
-        st.done = 0;
-        drop(st);
+        self.plan();
         let worker = || self.work(total, &run);
         // One pass needs no pool (nor asks for rayon's global one when
         // called outside a pool).
@@ -139,6 +212,29 @@ impl PassGraph {
             rayon::current_num_threads().min(total)
         };
         workers(threads, &worker);
+        self.settle();
+    }
+
+    /// Keeps this frame's measured costs as the next one's estimates, and
+    /// its work and span.
+    fn settle(&mut self) {
+        let n = self.characters;
+        let st = self.state.get_mut().expect("no pass panicked");
+        self.own_costs.copy_from_slice(&st.costs[..n]);
+        self.last_pairs.clear();
+        self.last_pairs.extend_from_slice(&self.pairs);
+        self.last_pair_costs.clear();
+        self.last_pair_costs.extend_from_slice(&st.costs[n..]);
+        // Each character's passes, one after another: the chain again, now
+        // of measured seconds.
+        st.chain.copy_from_slice(&st.costs[..n]);
+        for (k, &(i, j)) in self.pairs.iter().enumerate() {
+            let cost = st.costs[n + k];
+            st.chain[i as usize] += cost;
+            st.chain[j as usize] += cost;
+        }
+        self.work = st.costs.iter().map(|&c| f64::from(c)).sum();
+        self.span = st.chain.iter().fold(0.0f64, |m, &c| m.max(f64::from(c)));
     }
 
     fn work(&self, total: usize, run: &(impl Fn(usize, Option<(u32, u32)>) + Sync)) {
@@ -161,61 +257,81 @@ impl PassGraph {
             let s = t0.elapsed().as_secs_f32();
             let (i, j) = self.holds(t);
             let mut st = self.state.lock().expect("no pass panicked");
-            st.costs[self.cost_index(t)] = s;
+            let st = &mut *st;
+            st.costs[t] = s;
             st.busy[i] = false;
             st.busy[j] = false;
-            if self.pair(t).is_none() {
-                st.own_done[i] = true;
-            }
             st.done += 1;
+            if self.pair(t).is_some() {
+                continue;
+            }
+            st.own_done[i] = true;
+            // Its pairs whose other character has had its own pass are ready.
+            let (from, to) = (st.pairs_from[i] as usize, st.pairs_from[i + 1] as usize);
+            for &p in &st.pair_passes[from..to] {
+                let (a, b) = self.holds(p as usize);
+                let other = if a == i { b } else { a };
+                if st.own_done[other] {
+                    let rank = rank(&st.chain, &st.costs, a, b, p);
+                    st.ready.push((rank, p));
+                }
+            }
         }
     }
 
     /// `None` when every pass is done; `Some(None)` when none can start now;
-    /// else the pass started: among those whose characters are free (and
-    /// have had their own pass, for a pair), the one whose character has
-    /// the most estimated work left, then the costlier, then the earliest.
+    /// else the pass started: of the next own pass and the best ready pair
+    /// whose characters are free, the better ranked ([`Rank`]).
     fn take(&self, total: usize) -> Option<Option<usize>> {
         let mut st = self.state.lock().expect("no pass panicked");
+        let st = &mut *st;
         if st.done == total {
             return None;
         }
-        let mut best: Option<(usize, f32, f32)> = None;
-        for (k, &t) in st.open.iter().enumerate() {
-            let t = t as usize;
-            let (i, j) = self.holds(t);
-            let free = !st.busy[i] && !st.busy[j];
-            let ready = self.pair(t).is_none() || (st.own_done[i] && st.own_done[j]);
-            if !(free && ready) {
-                continue;
-            }
-            let chain = st.remaining[i].max(st.remaining[j]);
-            let cost = st.costs[self.cost_index(t)];
-            let better = match best {
-                None => true,
-                Some((b, bc, bcost)) => {
-                    chain > bc
-                        || (chain == bc
-                            && (cost > bcost || (cost == bcost && t < st.open[b] as usize)))
-                }
-            };
-            if better {
-                best = Some((k, chain, cost));
+        let mut pair = None;
+        while let Some(e) = st.ready.pop() {
+            let (i, j) = self.holds(e.1 as usize);
+            if st.busy[i] || st.busy[j] {
+                st.held.push(e);
+            } else {
+                pair = Some(e);
+                break;
             }
         }
-        let Some((k, _, cost)) = best else {
-            return Some(None);
-        };
-        let t = st.open.swap_remove(k) as usize;
+        while let Some(e) = st.held.pop() {
+            st.ready.push(e);
+        }
+        let own = st.own_order.get(st.own_next).map(|&t| {
+            let t = t as usize;
+            (rank(&st.chain, &st.costs, t, t, t as u32), t as u32)
+        });
+        let t = match (own, pair) {
+            (None, None) => return Some(None),
+            (Some(o), Some(p)) if p.0 > o.0 => p.1,
+            (Some(o), p) => {
+                if let Some(p) = p {
+                    st.ready.push(p);
+                }
+                st.own_next += 1;
+                o.1
+            }
+            (None, Some(p)) => p.1,
+        } as usize;
         let (i, j) = self.holds(t);
         st.busy[i] = true;
         st.busy[j] = true;
-        st.remaining[i] -= cost;
-        if j != i {
-            st.remaining[j] -= cost;
-        }
         Some(Some(t))
     }
+}
+
+/// Pass `t`'s rank, holding characters `i` and `j` (the same for an own
+/// pass).
+fn rank(chain: &[f32], costs: &[f32], i: usize, j: usize, t: u32) -> Rank {
+    (
+        chain[i].max(chain[j]).to_bits(),
+        costs[t as usize].to_bits(),
+        Reverse(t),
+    )
 }
 
 /// Runs `worker` on `n` threads of the current pool (nested joins: no job
@@ -267,7 +383,7 @@ mod tests {
     #[test]
     fn own_pass_first_and_one_pass_per_character_at_a_time() {
         let n = 6;
-        let pairs: Vec<(u32, u32)> = vec![(0, 1), (2, 3), (0, 2), (1, 3), (4, 5), (0, 5), (1, 2)];
+        let pairs: Vec<(u32, u32)> = vec![(0, 1), (0, 2), (0, 5), (1, 2), (1, 3), (2, 3), (4, 5)];
         for threads in [1, 2, 4] {
             let pool = pool(threads);
             let mut g = PassGraph::new(n);
@@ -322,19 +438,19 @@ mod tests {
     /// a character's pairs are not held behind one another's order.
     #[test]
     fn pairs_of_free_characters_run_beside_a_heavy_pair() {
-        // Listed so that a fixed order per character would put (0, 1) between
-        // (0, 2) and (1, 3): pairs (2, 3) and the rest would wait for it.
-        let pairs = [(0, 2), (0, 1), (1, 3), (2, 3)];
+        // Character 0 and 1's pairs, if run in a fixed order such as (0, 2),
+        // (0, 1), (1, 3), would hold the others behind the heavy one.
+        let pairs = [(0, 1), (0, 2), (1, 3), (2, 3)];
         // Passes 0–3 are the characters' own; pass 4 + k is `pairs[k]`, so
-        // pass 5 is the heavy pair (0, 1).
+        // pass 4 is the heavy pair (0, 1).
         let elapsed = second_frame_ms(4, pairs, |t| match t {
-            5 => 500,
+            4 => 500,
             4.. => 150,
             _ => 1,
         });
         // Serial: 954 ms. The heavy pair on one thread (500 ms) while the
         // other runs (2, 3) and then waits, then (0, 2) and (1, 3) side by
-        // side: about 652 ms; a fixed order (0, 2), (0, 1), (1, 3) takes at
+        // side: about 652 ms; the fixed order (0, 2), (0, 1), (1, 3) takes at
         // least 800. The margin is for a loaded machine's late wake-ups (a
         // run with the test suite beside it once took 38 ms over the ideal
         // when the passes were 200 and 60 ms).

@@ -2,8 +2,8 @@
 //!
 //! 1. Every character starts its step (spheres and skinned vertices stale)
 //!    and refits its root sphere, characters side by side.
-//! 2. The broad phase between characters' root spheres lists the character
-//!    pairs to traverse.
+//! 2. The broad phase between characters' root spheres (sort and sweep,
+//!    [`SortAndSweep`]) lists the character pairs to traverse.
 //! 3. Every pass runs on the pool's threads ([`PassGraph`]): each
 //!    character's passes against the rooms and, after the broad phase
 //!    against every object's root sphere at its pose, against each object
@@ -21,6 +21,7 @@
 //! thread, and those counted for the character pairs add up to the rest.
 //!
 //! [`PassGraph`]: super::pass_graph::PassGraph
+//! [`SortAndSweep`]: super::broad_phase::SortAndSweep
 
 use std::time::Instant;
 
@@ -59,12 +60,15 @@ impl CollisionWorld {
         //    few dozen spheres; the room pass counts them, from the step's
         //    start, and would refit them first anyway).
         side_by_side(&mut self.characters, |c| {
+            let t0 = Instant::now();
             let c = c.get_mut().expect("no pass panicked");
             c.begin_step();
             c.own.root = side(c).root_sphere();
+            c.own.start_seconds = t0.elapsed().as_secs_f32();
         });
 
         // 2. The broad phase between characters' root spheres.
+        let t1 = Instant::now();
         let char_tests = self.character_broad_phase();
         while self.pairs.len() < self.candidates.len() {
             self.pairs.push(Default::default());
@@ -78,6 +82,7 @@ impl CollisionWorld {
         }
         self.graph.set_pairs(self.candidates.iter().copied());
         self.lent.prepare(rayon::current_num_threads());
+        let serial_before = t1.elapsed().as_secs_f64();
         let n = self.characters.len();
         let CollisionWorld {
             method,
@@ -119,38 +124,37 @@ impl CollisionWorld {
             }
         });
 
-        self.lent.settle();
-
         // 4. The contacts, in a fixed order.
+        let t2 = Instant::now();
+        self.lent.settle();
         self.gather(char_tests);
-        self.contacts.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let serial = serial_before + t2.elapsed().as_secs_f64();
+        let (mut start_work, mut start_span) = (0.0f64, 0.0f64);
+        for c in &mut self.characters {
+            let s = f64::from(c.get_mut().expect("no pass panicked").own.start_seconds);
+            start_work += s;
+            start_span = start_span.max(s);
+        }
+        let (work, span) = self.graph.work_span();
+        let out = &mut self.contacts;
+        out.work_ms = (start_work + serial + work) * 1e3;
+        out.span_ms = (start_span + serial + span) * 1e3;
+        out.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         &self.contacts
     }
 
-    /// Tests every two characters' root spheres (`root` of each), listing
-    /// the pairs that meet in `candidates`; returns the tests made.
+    /// The broad phase between characters' root spheres (`root` of each):
+    /// lists the pairs that meet in `candidates`, ascending; returns the
+    /// sphere tests made.
     pub(crate) fn character_broad_phase(&mut self) -> u64 {
-        let roots: &mut Vec<(u32, u32)> = &mut self.candidates;
-        roots.clear();
-        let n = self.characters.len();
-        let mut tests = 0u64;
-        let root =
-            |c: &std::sync::Mutex<CharacterBody>| c.lock().expect("no pass panicked").own.root;
-        for i in 0..n {
-            let Some(ri) = root(&self.characters[i]) else {
-                continue;
-            };
-            for j in i + 1..n {
-                let Some(rj) = root(&self.characters[j]) else {
-                    continue;
-                };
-                tests += 1;
-                if ri.overlaps(&rj) {
-                    roots.push((i as u32, j as u32));
-                }
-            }
-        }
-        tests
+        self.character_roots.clear();
+        self.character_roots.extend(
+            self.characters
+                .iter_mut()
+                .map(|c| c.get_mut().expect("no pass panicked").own.root),
+        );
+        self.broad_phase
+            .pairs(&self.character_roots, &mut self.candidates)
     }
 
     fn gather(&mut self, char_tests: u64) {

@@ -18,6 +18,7 @@ use std::time::Instant;
 
 use nalgebra::{Isometry3, Vector3};
 
+use crate::geometry::Sphere;
 use crate::geometry::ccd_root_finder::CcdParams;
 use crate::geometry::ccd_sphere_plane::StillPlane;
 use crate::pipeline::FrameCounters;
@@ -29,6 +30,7 @@ use crate::sphere_tree::NodeId;
 use crate::sphere_tree::swept_rigid::RigidPath;
 
 use super::bodies::{CharacterBody, RigidBody};
+use super::broad_phase::SortAndSweep;
 use super::collision_world::CollisionWorld;
 use super::contacts::{CharacterPair, ObjectPair, RoomPair, SweepContacts, Timed};
 use super::continuous_state::ContinuousState;
@@ -85,6 +87,9 @@ impl CollisionWorld {
             objects,
             characters,
             continuous,
+            character_roots,
+            broad_phase,
+            candidates,
             ..
         } = self;
         let cs = continuous.as_mut().ok_or(WorldError::ContinuousOff)?;
@@ -109,7 +114,8 @@ impl CollisionWorld {
                 own_sweeps(c, method, params, rooms, planes, objects, paths);
             });
             // 2. Characters against each other.
-            let (tests, pairs) = sweep_pairs(characters, cs);
+            let (tests, pairs) =
+                sweep_pairs(characters, character_roots, broad_phase, candidates, cs);
             // 3. The contacts.
             gather(characters, cs, tests, pairs);
         }
@@ -246,50 +252,50 @@ fn own_sweeps(
     }
 }
 
-/// Swept roots between characters, then each pair that meets, one after
-/// the other; returns the root tests and the pairs traversed.
+/// Swept roots between characters (the broad phase over them), then each
+/// pair that meets, one after the other; returns the root tests and the
+/// pairs traversed.
 fn sweep_pairs(
     characters: &mut [std::sync::Mutex<CharacterBody>],
+    roots: &mut Vec<Option<Sphere>>,
+    broad_phase: &mut SortAndSweep,
+    candidates: &mut Vec<(u32, u32)>,
     cs: &mut ContinuousState,
 ) -> (u64, u64) {
-    let n = characters.len();
-    let (mut tests, mut pairs) = (0u64, 0u64);
+    roots.clear();
+    roots.extend(
+        characters
+            .iter_mut()
+            .map(|c| c.get_mut().expect("no pass panicked").own.root),
+    );
+    let tests = broad_phase.pairs(roots, candidates);
+    let pairs = candidates.len() as u64;
     let out = &mut cs.contacts;
-    for i in 0..n {
-        let Some(ri) = characters[i].get_mut().expect("no pass panicked").own.root else {
-            continue;
+    for &(i, j) in candidates.iter() {
+        let (i, j) = (i as usize, j as usize);
+        let (lo, hi) = characters.split_at_mut(j);
+        let a = lo[i].get_mut().expect("no pass panicked");
+        let b = hi[0].get_mut().expect("no pass panicked");
+        let mut pass = SweptPairPass {
+            a: swept_side(a),
+            b: swept_side(b),
+            params: &cs.params,
+            ccd: &mut cs.pair_ccd,
         };
-        for j in i + 1..n {
-            let (lo, hi) = characters.split_at_mut(j);
-            let a = lo[i].get_mut().expect("no pass panicked");
-            let b = hi[0].get_mut().expect("no pass panicked");
-            let Some(rj) = b.own.root else { continue };
-            tests += 1;
-            if !ri.overlaps(&rj) {
-                continue;
-            }
-            pairs += 1;
-            let mut pass = SweptPairPass {
-                a: swept_side(a),
-                b: swept_side(b),
-                params: &cs.params,
-                ccd: &mut cs.pair_ccd,
-            };
-            let slot = &mut cs.pairs;
-            let c = run(&mut pass, &mut slot.scratch, &mut slot.hits);
-            out.by_kind.characters.add(&c);
-            let (ha, hb) = (CharacterHandle(i as u32), CharacterHandle(j as u32));
-            out.character_pairs.extend(slot.hits.iter().map(|p| Timed {
-                pair: CharacterPair {
-                    a: ha,
-                    triangle_a: p.a,
-                    b: hb,
-                    triangle_b: p.b,
-                },
-                toi: p.toi,
-                by_plane: false,
-            }));
-        }
+        let slot = &mut cs.pairs;
+        let c = run(&mut pass, &mut slot.scratch, &mut slot.hits);
+        out.by_kind.characters.add(&c);
+        let (ha, hb) = (CharacterHandle(i as u32), CharacterHandle(j as u32));
+        out.character_pairs.extend(slot.hits.iter().map(|p| Timed {
+            pair: CharacterPair {
+                a: ha,
+                triangle_a: p.a,
+                b: hb,
+                triangle_b: p.b,
+            },
+            toi: p.toi,
+            by_plane: false,
+        }));
     }
     out.by_kind.characters.sphere_sphere += tests;
     (tests, pairs)
