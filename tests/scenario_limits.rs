@@ -229,20 +229,37 @@ fn world_numbers_out_of_range_name_their_field() {
             .to_string();
         assert_eq!(e, format!("w.toml:{want}"), "case {i}");
     }
-    // More characters than a scenario may have.
+    // 257 characters, once past the old fixed cap, are read: the memory
+    // budget bounds a scenario's characters now.
     let many = format!(
         "[environment]\nkind = \"living-room\"\n{}",
         (0..257)
             .map(|i| format!("[[characters]]\nname = \"c{i}\"\nsource = \"generated:humanoid?vertices=500\"\nplacement = {{ start = {{ translation = [1, 0, 1] }} }}\n"))
             .collect::<String>()
     );
-    let e = Scenario::parse(&many, Path::new("w.toml"))
-        .unwrap_err()
-        .to_string();
     assert_eq!(
-        e,
-        "w.toml:1027:1: characters: needs 1 to 256 characters, not 257"
+        Scenario::parse(&many, Path::new("w.toml")).unwrap().characters.len(),
+        257
     );
+}
+
+/// A crowd past the memory budget is refused, naming it, before its
+/// instances are built: the budget, not a fixed cap, bounds the count.
+#[test]
+fn a_crowd_past_the_budget_is_refused_naming_it() {
+    let text = "[environment]\nkind = \"plaza\"\n[crowd]\nsource = \"generated:humanoid?vertices=10000\"\ncount = 200000\n";
+    let start = Instant::now();
+    let (_, e) = refused("big_crowd.toml", text);
+    assert!(e.contains("200000 characters"), "{e}");
+    assert!(e.contains(": crowd.count: "), "{e}");
+    assert!(e.contains("over the run's memory budget"), "{e}");
+    assert!(start.elapsed().as_secs() < 60, "{:?}", start.elapsed());
+    // On a plaza of a given size, the instances themselves: refused at the
+    // crowd's source once the budget is spent.
+    let text = text.replace("kind = \"plaza\"", "kind = \"plaza\"\nsize = [10, 10]");
+    let (_, e) = refused("big_crowd_sized.toml", &text);
+    assert!(e.contains(": crowd.source: "), "{e}");
+    assert!(e.contains("another instance of a character of"), "{e}");
 }
 
 /// Past the budget, the value that drove the size is named before anything

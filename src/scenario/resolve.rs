@@ -419,11 +419,20 @@ pub fn resolve_with(
             }
             let env = crate::environment::plaza(w, d);
             let t = env.mesh.triangle_count();
+            // Sized to the crowd: the crowd's count drove it.
+            let field = if size.is_some() {
+                "environment.size"
+            } else {
+                "crowd.count"
+            };
             budget
                 .charge(budget::static_mesh_bytes(t, methods, bodies), || {
-                    format!("a plaza of {t} triangles with {with_methods}' hierarchies")
+                    format!(
+                        "a plaza of {t} triangles with {with_methods}' hierarchies and the \
+                         reference's copy for each of {bodies} characters"
+                    )
                 })
-                .map_err(|m| fail("environment.size", m))?;
+                .map_err(|m| fail(field, m))?;
             env
         }
         EnvironmentSection::Gltf { path } => {
