@@ -53,7 +53,10 @@ fn bench_reports_speedups_and_exact_methods_match_parry() {
         assert!(close(one_one, parry / one), "{m}");
         // The one-thread frame's work and its longest chain: the chain is
         // part of the work, and both fit in the frame's time.
-        let (work, span) = (m["work_ms"].as_f64().unwrap(), m["span_ms"].as_f64().unwrap());
+        let (work, span) = (
+            m["work_ms"].as_f64().unwrap(),
+            m["span_ms"].as_f64().unwrap(),
+        );
         let parallelism = m["available_parallelism"].as_f64().unwrap();
         assert!(span > 0.0 && span <= work && work <= one, "{m}");
         assert!(parallelism >= 1.0, "{m}");

@@ -238,7 +238,10 @@ fn world_numbers_out_of_range_name_their_field() {
             .collect::<String>()
     );
     assert_eq!(
-        Scenario::parse(&many, Path::new("w.toml")).unwrap().characters.len(),
+        Scenario::parse(&many, Path::new("w.toml"))
+            .unwrap()
+            .characters
+            .len(),
         257
     );
 }

@@ -116,13 +116,20 @@ fn plaza_exact_pairs_every_frame() {
         touching += truth.exact.characters.len();
         for (m, method) in world.methods().enumerate() {
             let o = world.contacts(m);
-            assert_eq!(o.room_pairs, truth.exact.environment, "frame {k} {method} floor");
+            assert_eq!(
+                o.room_pairs, truth.exact.environment,
+                "frame {k} {method} floor"
+            );
             assert_eq!(
                 o.character_pairs, truth.exact.characters,
                 "frame {k} {method} characters"
             );
             // The sweep tested far fewer root pairs than every pair.
-            assert!(o.broad_phase_tests < 120 * 119 / 2 / 4, "{}", o.broad_phase_tests);
+            assert!(
+                o.broad_phase_tests < 120 * 119 / 2 / 4,
+                "{}",
+                o.broad_phase_tests
+            );
         }
     }
     assert!(touching > 1000, "{touching} character pairs in 4 frames");
@@ -142,7 +149,8 @@ fn bad_crowds_fail_in_one_line_naming_the_field() {
             "environment.size: only for kind = \"plaza\"",
         ),
         (
-            "[environment]\nkind = \"plaza\"\n".to_owned() + &crowd.replace("count = 4", "count = 0"),
+            "[environment]\nkind = \"plaza\"\n".to_owned()
+                + &crowd.replace("count = 4", "count = 0"),
             "crowd.count: must be a whole number from 1",
         ),
         (

@@ -385,11 +385,7 @@ fn character_list(scene: &cornertree_workbench::scenario::Resolved) -> String {
         .map(|(v, n)| format!("{n} of {v} vertices"))
         .collect::<Vec<_>>()
         .join(", ");
-    format!(
-        "{} … {}: {by_size}",
-        cs[0].name,
-        cs[cs.len() - 1].name
-    )
+    format!("{} … {}: {by_size}", cs[0].name, cs[cs.len() - 1].name)
 }
 
 /// The run's first lines: what was played, and the placements.

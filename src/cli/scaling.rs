@@ -45,8 +45,11 @@ pub struct ScalingArgs {
     #[arg(long, default_value_t = 44_345)]
     pub character_size: usize,
     /// Crowd study: this many generated humanoids (comma-separated counts, e.g.
-    /// 1,2,4,8,16,32) walking in lanes in the base room, neighbours brushing
-    /// as they pass; nothing by default.
+    /// 1,2,4,8,16,32). A base scenario with a `[crowd]` (the plazas) keeps
+    /// its layout and spacing at every count, on a plaza sized to it (e.g.
+    /// `scaling scenarios/plaza_brushing.toml --characters-count
+    /// 64,1024,4096`); any other walks them in free lanes of its room, 0.62 m
+    /// apart. Nothing by default.
     #[arg(long, value_delimiter = ',')]
     pub characters_count: Vec<usize>,
     /// Most memory each configuration's bodies and the measured methods'
@@ -78,6 +81,10 @@ struct Scaling {
     frames: u64,
     /// Threads of the methods' frames and of the baseline.
     threads: usize,
+    /// The base scenario's crowd spacing, when the crowd study kept its
+    /// layout.
+    #[serde(skip)]
+    crowd_spacing: Option<[f32; 2]>,
     by_character: Vec<Bench>,
     by_environment: Vec<Bench>,
     by_characters_count: Vec<Bench>,
@@ -218,14 +225,20 @@ fn measure_studies(
         by_characters_count,
         by_contact_gap,
     ] = by;
-    let threads = [&by_character, &by_environment, &by_characters_count, &by_contact_gap]
-        .iter()
-        .find_map(|v| v.first())
-        .map_or(args.threads, |b| b.threads);
+    let threads = [
+        &by_character,
+        &by_environment,
+        &by_characters_count,
+        &by_contact_gap,
+    ]
+    .iter()
+    .find_map(|v| v.first())
+    .map_or(args.threads, |b| b.threads);
     Ok(Scaling {
         base_scenario: name,
         frames,
         threads,
+        crowd_spacing: base.crowd.as_ref().map(|c| c.spacing),
         by_character,
         by_environment,
         by_characters_count,
@@ -239,16 +252,22 @@ fn tables(args: &ScalingArgs, result: &Scaling, methods: &[Method]) -> String {
         ("character vertices", |b| b.vertices.to_string()),
         ("room vertices", |b| b.environment_vertices.to_string()),
     ];
-    let crowd: [Column; 3] = [
+    let crowd: [Column; 4] = [
         ("characters", |b| b.characters.to_string()),
         ("vertices", |b| b.vertices.to_string()),
-        ("ms per character (fastest)", |b| {
+        ("ms per character, 1 thread (fastest)", |b| {
             let best = b
                 .methods
                 .iter()
-                .map(|m| m.ms_per_frame)
+                .map(|m| m.ms_per_frame_one_thread)
                 .fold(f64::INFINITY, f64::min);
-            format!("{:.3}", best / b.characters.max(1) as f64)
+            format!("{:.4}", best / b.characters.max(1) as f64)
+        }),
+        ("work/span (fastest)", |b| {
+            b.methods
+                .iter()
+                .min_by(|x, y| x.ms_per_frame.total_cmp(&y.ms_per_frame))
+                .map_or(String::new(), |m| format!("{:.1}", m.available_parallelism))
         }),
     ];
     let mut out = format!(
@@ -274,9 +293,13 @@ fn tables(args: &ScalingArgs, result: &Scaling, methods: &[Method]) -> String {
     }
     if !result.by_characters_count.is_empty() {
         out += &format!(
-            "\n### Against the number of characters (humanoids of {} vertices walking in free lanes {} m apart)\n\n",
+            "\n### Against the number of characters (humanoids of {} vertices, {})\n\n",
             args.crowd_vertices,
-            variants::LANE_SPACING
+            match &result.crowd_spacing {
+                Some([x, z]) =>
+                    format!("walking in place in the base scenario's crowd grid, {x} m × {z} m"),
+                None => format!("walking in free lanes {} m apart", variants::LANE_SPACING),
+            }
         );
         out += &scaling_table(&result.by_characters_count, methods, &crowd);
     }

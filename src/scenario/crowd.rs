@@ -137,8 +137,7 @@ pub(super) fn parse_crowd(
             let mut out = [0.0f32; 2];
             for (o, &v) in out.iter_mut().zip(s.get_ref()) {
                 *o = ranges::between(v, MIN_SPACING, MAX_SPACING, "metres")
-                    .map_err(|m| err_at(s.span(), "crowd.spacing", m))?
-                    as f32;
+                    .map_err(|m| err_at(s.span(), "crowd.spacing", m))? as f32;
             }
             out
         }
@@ -185,7 +184,12 @@ mod tests {
     /// no two on one spot.
     #[test]
     fn a_grid_inside_its_plaza() {
-        for (count, spacing) in [(1, [0.62, 1.0]), (7, [0.62, 1.0]), (1024, [0.62, 1.0]), (300, [0.4, 0.5])] {
+        for (count, spacing) in [
+            (1, [0.62, 1.0]),
+            (7, [0.62, 1.0]),
+            (1024, [0.62, 1.0]),
+            (300, [0.4, 0.5]),
+        ] {
             let c = crowd(count, spacing);
             let [w, d] = c.extent();
             let e = c.entries();
@@ -197,8 +201,14 @@ mod tests {
                 };
                 assert_eq!(p.speed, 0.0);
                 let [px, _, pz] = p.waypoints[0];
-                assert!(px >= MARGIN - 1e-4 && px <= w - MARGIN + 1e-4, "{px} of {w}");
-                assert!(pz >= MARGIN - 1e-4 && pz <= d - MARGIN + 1e-4, "{pz} of {d}");
+                assert!(
+                    px >= MARGIN - 1e-4 && px <= w - MARGIN + 1e-4,
+                    "{px} of {w}"
+                );
+                assert!(
+                    pz >= MARGIN - 1e-4 && pz <= d - MARGIN + 1e-4,
+                    "{pz} of {d}"
+                );
                 spots.push(((px * 100.0).round() as i64, (pz * 100.0).round() as i64));
             }
             spots.sort();
@@ -208,7 +218,10 @@ mod tests {
             // the margins (a crowd of one is a point).
             if count > 4 {
                 let (gw, gd) = (w - 2.0 * MARGIN, d - 2.0 * MARGIN);
-                assert!(gw < 2.0 * gd + spacing[0] && gd < 2.0 * gw + spacing[1], "{gw} × {gd}");
+                assert!(
+                    gw < 2.0 * gd + spacing[0] && gd < 2.0 * gw + spacing[1],
+                    "{gw} × {gd}"
+                );
             }
         }
     }

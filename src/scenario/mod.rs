@@ -470,7 +470,9 @@ impl Scenario {
             }
         };
         let characters = match (raw.character, raw.characters) {
-            (None, None) if crowd.is_some() => crowd.as_ref().map(|c| c.entries()).unwrap_or_default(),
+            (None, None) if crowd.is_some() => {
+                crowd.as_ref().map(|c| c.entries()).unwrap_or_default()
+            }
             (Some(c), None) => {
                 let Some(pl) = raw.placement else {
                     return Err(err_at(
@@ -613,7 +615,10 @@ impl Scenario {
             EnvKind::Plaza => {
                 for (given, field) in [
                     (env.path.as_ref().map(|p| p.span()), "environment.path"),
-                    (env.vertices.as_ref().map(|v| v.span()), "environment.vertices"),
+                    (
+                        env.vertices.as_ref().map(|v| v.span()),
+                        "environment.vertices",
+                    ),
                 ] {
                     if let Some(span) = given {
                         return Err(err_at(span, field, "a plaza takes only a size".into()));

@@ -160,7 +160,9 @@ mod tests {
 
     /// A little generator of spheres (no dependency for a test).
     fn spheres(n: usize, seed: u64, side: f32) -> Vec<Option<Sphere>> {
-        let mut s = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let mut s = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         let mut next = move || {
             s = s
                 .wrapping_mul(6364136223846793005)
@@ -186,8 +188,15 @@ mod tests {
     fn same_pairs_as_testing_every_pair() {
         let mut sweep = SortAndSweep::new();
         let (mut a, mut b) = (Vec::new(), Vec::new());
-        for (n, side) in [(0, 1.0), (1, 1.0), (2, 0.1), (8, 3.0), (64, 10.0), (300, 40.0), (300, 2.0)]
-        {
+        for (n, side) in [
+            (0, 1.0),
+            (1, 1.0),
+            (2, 0.1),
+            (8, 3.0),
+            (64, 10.0),
+            (300, 40.0),
+            (300, 2.0),
+        ] {
             for seed in 0..4 {
                 let s = spheres(n, seed, side);
                 let all = all_pairs(&s, &mut a);

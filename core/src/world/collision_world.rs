@@ -19,12 +19,12 @@ use crate::sphere_tree::refit::RefitState;
 use crate::sphere_tree::traverse::LeafPair;
 
 use super::bodies::{CharacterBody, PassSlot, RigidBody};
+use super::broad_phase::SortAndSweep;
 use super::character_model::CharacterModel;
 use super::contacts::StepContacts;
 use super::continuous_state::ContinuousState;
 use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
-use super::broad_phase::SortAndSweep;
 use super::pass_graph::PassGraph;
 use super::pass_pool::PassPool;
 

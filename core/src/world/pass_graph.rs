@@ -182,7 +182,11 @@ impl PassGraph {
         st.own_order.extend(0..n as u32);
         let (chain, costs) = (&st.chain, &st.costs);
         st.own_order.sort_unstable_by_key(|&t| {
-            Reverse((chain[t as usize].to_bits(), costs[t as usize].to_bits(), Reverse(t)))
+            Reverse((
+                chain[t as usize].to_bits(),
+                costs[t as usize].to_bits(),
+                Reverse(t),
+            ))
         });
         st.own_next = 0;
         // Sized for every pair: how many wait at once depends on the
