@@ -81,6 +81,60 @@ fn crowd_exact_pairs_every_frame() {
     exact_on_every_frame("crowd", PairKind::Characters);
 }
 
+#[test]
+fn inside_furniture_exact_pairs_every_frame() {
+    exact_on_every_frame("inside_furniture", PairKind::Environment);
+}
+
+/// The shipped plazas hold a thousand instances of one source; shrunk to 12
+/// (same spacing, same plaza rule), their exact methods' pairs equal the
+/// truth's on four frames, and the packed one has at least 300 colliding
+/// triangle pairs per character a frame between characters (counting each
+/// pair for both its characters), the brushing one some but far fewer.
+#[test]
+fn shipped_plazas_exact_and_as_dense_as_they_say() {
+    for (name, least, most) in [
+        ("plaza_brushing", 1.0, 100.0),
+        ("plaza_packed", 300.0, f64::MAX),
+    ] {
+        let path = root().join(format!("scenarios/{name}.toml"));
+        let mut s = cornertree_workbench::scenario::load_scenario(&path).unwrap();
+        assert_eq!(s.characters.len(), 1000, "{name}");
+        let mut crowd = s.crowd.clone().unwrap();
+        crowd.count = 12;
+        s.set_crowd(crowd);
+        s.frames = Some(4);
+        s.dedup = false;
+        let mut r = cornertree_workbench::scenario::resolve(&s, &root().join("scenarios")).unwrap();
+        r.methods = vec![Method::UndividedPrunedTriTri];
+        let mut world = Session::new(r, 0).unwrap();
+        let mut truth = Truth::new(&world.scene).unwrap();
+        let mut pairs = 0;
+        for k in 0..world.frames() {
+            world.pose(k);
+            world.skin_all();
+            truth
+                .update(&world.scene, &world.buffers, &world.object_poses)
+                .unwrap();
+            world.detect_all();
+            let o = world.contacts(0);
+            assert_eq!(o.room_pairs, truth.exact.environment, "{name} frame {k}");
+            assert_eq!(
+                o.character_pairs, truth.exact.characters,
+                "{name} frame {k}"
+            );
+            pairs += o.character_pairs.len();
+        }
+        // In the middle of a grid a character has two side neighbours; 12
+        // characters stand in 5 columns (the edge ones have one).
+        let per_character = 2.0 * pairs as f64 / (12.0 * 4.0);
+        assert!(
+            (least..most).contains(&per_character),
+            "{name}: {per_character:.1} colliding pairs per character a frame"
+        );
+    }
+}
+
 /// A plaza crowd of `count` humanoids of `vertices` vertices, `spacing`
 /// apart, as scenario text.
 fn plaza(count: usize, vertices: usize, spacing: f32, frames: usize) -> String {
