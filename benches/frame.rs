@@ -9,7 +9,8 @@
 //! De-duplication is off, so the triangle-triangle methods find exactly the
 //! baseline's pairs.
 //!
-//! `cargo bench --bench frame` (`-- pruned` for one method)
+//! `cargo bench --bench frame` (`-- pruned` for one method;
+//! `FRAME_SCENARIO=crowd` for another shipped scenario)
 
 #[path = "common/fixtures.rs"]
 mod fixtures;
@@ -24,7 +25,10 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use fixtures::{FrameCycle, scenario};
 
 fn frame(c: &mut Criterion) {
-    let name = "living_room";
+    // Another shipped scenario by name: `FRAME_SCENARIO=crowd cargo bench
+    // --bench frame` (with `-- --profile-time 20` under a profiler).
+    let name = std::env::var("FRAME_SCENARIO").unwrap_or_else(|_| "living_room".into());
+    let name = name.as_str();
     let mut r = scenario(name);
     r.dedup = false;
     r.methods = Method::ALL.to_vec();
