@@ -7,7 +7,7 @@ use std::path::Path;
 
 use cornertree::pipeline::Method;
 use cornertree::world::PairKind;
-use cornertree_workbench::scenario::{Scenario, open_scenario};
+use cornertree_workbench::scenario::{Resolved, Scenario, open_scenario};
 use cornertree_workbench::session::Session;
 use cornertree_workbench::truth::Truth;
 
@@ -15,20 +15,16 @@ fn root() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// Plays `name` without de-duplication through the exact methods; checks
-/// every frame against the truth and that `kind` has contacts in at least a
-/// quarter of the frames.
-fn exact_on_every_frame(name: &str, kind: PairKind) {
-    let mut r = open_scenario(&root().join(format!("scenarios/{name}.toml"))).unwrap();
-    r.dedup = false;
-    r.methods = vec![
-        Method::SphereDivision,
-        Method::PrunedTriTri,
-        Method::UndividedPrunedTriTri,
-    ];
+/// Plays `r` through its methods, checking every frame's pairs of every
+/// kind against the truth (`name` in messages); calls `each` with every
+/// frame's truth and each method's contacts. Returns the frames played.
+fn exact_pairs_every_frame(
+    r: Resolved,
+    name: &str,
+    mut each: impl FnMut(&Truth, &cornertree::world::StepContacts),
+) -> usize {
     let mut world = Session::new(r, 0).unwrap();
     let mut truth = Truth::new(&world.scene).unwrap();
-    let mut with_contact = 0;
     let frames = world.frames();
     for k in 0..frames {
         world.pose(k);
@@ -37,12 +33,6 @@ fn exact_on_every_frame(name: &str, kind: PairKind) {
             .update(&world.scene, &world.buffers, &world.object_poses)
             .unwrap();
         world.detect_all();
-        let exact_of_kind = match kind {
-            PairKind::Environment => truth.exact.environment.len(),
-            PairKind::Objects => truth.exact.objects.len(),
-            PairKind::Characters => truth.exact.characters.len(),
-        };
-        with_contact += usize::from(exact_of_kind > 0);
         for (m, method) in world.methods().enumerate() {
             let o = world.contacts(m);
             assert_eq!(
@@ -57,8 +47,35 @@ fn exact_on_every_frame(name: &str, kind: PairKind) {
                 o.character_pairs, truth.exact.characters,
                 "{name} frame {k} {method} characters"
             );
+            each(&truth, o);
         }
     }
+    frames
+}
+
+/// Plays `name` without de-duplication through the exact methods; checks
+/// every frame against the truth and that `kind` has contacts in at least a
+/// quarter of the frames.
+fn exact_on_every_frame(name: &str, kind: PairKind) {
+    let mut r = open_scenario(&root().join(format!("scenarios/{name}.toml"))).unwrap();
+    r.dedup = false;
+    r.methods = vec![
+        Method::SphereDivision,
+        Method::PrunedTriTri,
+        Method::UndividedPrunedTriTri,
+    ];
+    let methods = r.methods.len();
+    let mut with_contact = 0;
+    let frames = exact_pairs_every_frame(r, name, |truth, _| {
+        let exact_of_kind = match kind {
+            PairKind::Environment => truth.exact.environment.len(),
+            PairKind::Objects => truth.exact.objects.len(),
+            PairKind::Characters => truth.exact.characters.len(),
+        };
+        with_contact += usize::from(exact_of_kind > 0);
+    });
+    // Counted once per method.
+    let with_contact = with_contact / methods;
     assert!(
         4 * with_contact >= frames,
         "{name}: {} contacts in {with_contact} of {frames} frames",
@@ -107,26 +124,11 @@ fn shipped_plazas_exact_and_as_dense_as_they_say() {
         s.dedup = false;
         let mut r = cornertree_workbench::scenario::resolve(&s, &root().join("scenarios")).unwrap();
         r.methods = vec![Method::UndividedPrunedTriTri];
-        let mut world = Session::new(r, 0).unwrap();
-        let mut truth = Truth::new(&world.scene).unwrap();
         let mut pairs = 0;
-        for k in 0..world.frames() {
-            world.pose(k);
-            world.skin_all();
-            truth
-                .update(&world.scene, &world.buffers, &world.object_poses)
-                .unwrap();
-            world.detect_all();
-            let o = world.contacts(0);
-            assert_eq!(o.room_pairs, truth.exact.environment, "{name} frame {k}");
-            assert_eq!(
-                o.character_pairs, truth.exact.characters,
-                "{name} frame {k}"
-            );
-            pairs += o.character_pairs.len();
-        }
+        exact_pairs_every_frame(r, name, |_, o| pairs += o.character_pairs.len());
         // In the middle of a grid a character has two side neighbours; 12
-        // characters stand in 5 columns (the edge ones have one).
+        // characters stand in 5 columns (brushing) or 6 (packed); the edge
+        // ones have one.
         let per_character = 2.0 * pairs as f64 / (12.0 * 4.0);
         assert!(
             (least..most).contains(&per_character),
@@ -157,36 +159,20 @@ fn plaza_exact_pairs_every_frame() {
     assert_eq!(s.characters.len(), 120);
     let mut r = cornertree_workbench::scenario::resolve(&s, Path::new(".")).unwrap();
     r.methods = vec![Method::PrunedTriTri, Method::UndividedPrunedTriTri];
-    let mut world = Session::new(r, 0).unwrap();
-    let mut truth = Truth::new(&world.scene).unwrap();
     let mut touching = 0;
-    for k in 0..world.frames() {
-        world.pose(k);
-        world.skin_all();
-        truth
-            .update(&world.scene, &world.buffers, &world.object_poses)
-            .unwrap();
-        world.detect_all();
+    exact_pairs_every_frame(r, "plaza", |truth, o| {
         touching += truth.exact.characters.len();
-        for (m, method) in world.methods().enumerate() {
-            let o = world.contacts(m);
-            assert_eq!(
-                o.room_pairs, truth.exact.environment,
-                "frame {k} {method} floor"
-            );
-            assert_eq!(
-                o.character_pairs, truth.exact.characters,
-                "frame {k} {method} characters"
-            );
-            // The sweep tested far fewer root pairs than every pair.
-            assert!(
-                o.broad_phase_tests < 120 * 119 / 2 / 4,
-                "{}",
-                o.broad_phase_tests
-            );
-        }
-    }
-    assert!(touching > 1000, "{touching} character pairs in 4 frames");
+        // The sweep tested far fewer root pairs than every pair.
+        assert!(
+            o.broad_phase_tests < 120 * 119 / 2 / 4,
+            "{}",
+            o.broad_phase_tests
+        );
+    });
+    assert!(
+        touching > 1000,
+        "{touching} character pairs in 4 frames, 2 methods"
+    );
 }
 
 #[test]
@@ -242,7 +228,7 @@ fn one_thread_and_two_give_the_same_outcome_on_a_plaza() {
     same_outcome_on_one_thread_and_two(r);
 }
 
-fn same_outcome_on_one_thread_and_two(r: cornertree_workbench::scenario::Resolved) {
+fn same_outcome_on_one_thread_and_two(r: Resolved) {
     let mut one = Session::new(r.clone(), 1).unwrap();
     let mut two = Session::new(r, 2).unwrap();
     let mut character_pairs = 0;

@@ -449,7 +449,7 @@ mod tests {
         // pass 4 is the heavy pair (0, 1).
         let elapsed = second_frame_ms(4, pairs, |t| match t {
             4 => 500,
-            4.. => 150,
+            5.. => 150,
             _ => 1,
         });
         // Serial: 954 ms. The heavy pair on one thread (500 ms) while the
