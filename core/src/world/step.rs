@@ -2,8 +2,9 @@
 //!
 //! 1. Every character starts its step (spheres and skinned vertices stale)
 //!    and refits its root sphere, characters side by side.
-//! 2. The broad phase between characters' root spheres (sort and sweep,
-//!    [`SortAndSweep`]) lists the character pairs to traverse.
+//! 2. The broad phase between characters' root spheres (every pair below
+//!    [`SWEEP_FROM`] characters, sort and sweep above: [`SortAndSweep`])
+//!    lists the character pairs to traverse.
 //! 3. Every pass runs on the pool's threads ([`PassGraph`]): each
 //!    character's passes against the rooms and, after the broad phase
 //!    against every object's root sphere at its pose, against each object
@@ -22,6 +23,7 @@
 //!
 //! [`PassGraph`]: super::pass_graph::PassGraph
 //! [`SortAndSweep`]: super::broad_phase::SortAndSweep
+//! [`SWEEP_FROM`]: super::broad_phase::SWEEP_FROM
 
 use std::time::Instant;
 
