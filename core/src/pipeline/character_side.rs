@@ -108,7 +108,7 @@ impl CharacterSide<'_> {
     }
 
     /// Refits ahead the nodes asked for last frame, when the method does
-    /// ([`crate::sphere_tree::refit_ahead`]); nothing otherwise.
+    /// (`sphere_tree::refit_ahead`); nothing otherwise.
     pub(crate) fn refit_ahead(&mut self) {
         let base = *self.pose.base;
         Refitter {

@@ -1,5 +1,5 @@
 //! Triangles prepared for the triangle-triangle test
-//! ([`Prepared`](crate::geometry::tri_tri::Prepared)), kept during one
+//! ([`Prepared`]), kept during one
 //! narrow phase in a small direct-mapped table keyed by triangle index.
 //!
 //! Two brushing characters' overlapping leaf pairs name each triangle

@@ -363,7 +363,7 @@ impl RefitData {
     }
 
     /// Whether any node is refit by joint balls (which read each joint's
-    /// matrix rows in `f64`, [`RefitState`]'s `mats`).
+    /// matrix rows in `f64`, [`RefitState`](super::refit::RefitState)'s `mats`).
     pub(super) fn moves_joint_balls(&self) -> bool {
         self.rules
             .iter()
