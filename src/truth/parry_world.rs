@@ -204,56 +204,59 @@ impl ParryWorld {
             candidates,
             body_pairs,
         } = out;
-        let overlap = |a: &BvhNode, b: &BvhNode| a.intersects(b);
         let cbox = c.local_aabb();
+        let h = CharacterHandle(i as u32);
         *body_pairs += 1;
-        for (t, rt) in c.bvh().leaf_pairs(room.bvh(), overlap) {
-            *candidates += 1;
-            if parry_triangles_intersect(&c.triangle(t), &room.triangle(rt)) {
-                pairs.environment.push(RoomPair {
-                    character: CharacterHandle(i as u32),
-                    triangle: t,
-                    room: RoomHandle(0),
-                    room_triangle: rt,
-                });
-            }
-        }
+        *candidates += touching(c, room, |t, rt| {
+            pairs.environment.push(RoomPair {
+                character: h,
+                triangle: t,
+                room: RoomHandle(0),
+                room_triangle: rt,
+            })
+        });
         for (o, obj) in objects.iter().enumerate() {
-            if !cbox.intersects(&obj.local_aabb()) {
-                continue;
-            }
-            *body_pairs += 1;
-            for (t, ot) in c.bvh().leaf_pairs(obj.bvh(), overlap) {
-                *candidates += 1;
-                if parry_triangles_intersect(&c.triangle(t), &obj.triangle(ot)) {
+            if cbox.intersects(&obj.local_aabb()) {
+                *body_pairs += 1;
+                *candidates += touching(c, obj, |t, ot| {
                     pairs.objects.push(ObjectPair {
-                        character: CharacterHandle(i as u32),
+                        character: h,
                         triangle: t,
                         object: ObjectHandle(o as u32),
                         object_triangle: ot,
-                    });
-                }
+                    })
+                });
             }
         }
         for (j, d) in characters.iter().enumerate().skip(i + 1) {
             let Some(d) = d else { continue };
-            if !cbox.intersects(&d.local_aabb()) {
-                continue;
-            }
-            *body_pairs += 1;
-            for (ta, tb) in c.bvh().leaf_pairs(d.bvh(), overlap) {
-                *candidates += 1;
-                if parry_triangles_intersect(&c.triangle(ta), &d.triangle(tb)) {
+            if cbox.intersects(&d.local_aabb()) {
+                *body_pairs += 1;
+                *candidates += touching(c, d, |ta, tb| {
                     pairs.characters.push(CharacterPair {
-                        a: CharacterHandle(i as u32),
+                        a: h,
                         triangle_a: ta,
                         b: CharacterHandle(j as u32),
                         triangle_b: tb,
-                    });
-                }
+                    })
+                });
             }
         }
     }
+}
+
+/// The leaf pairs of `a`'s and `b`'s BVHs whose triangles parry's test
+/// says intersect, each handed to `hit`; returns the leaf pairs tested.
+fn touching(a: &ParryMesh, b: &ParryMesh, mut hit: impl FnMut(u32, u32)) -> u64 {
+    let mut tested = 0;
+    let overlap = |x: &BvhNode, y: &BvhNode| x.intersects(y);
+    for (ta, tb) in a.bvh().leaf_pairs(b.bvh(), overlap) {
+        tested += 1;
+        if parry_triangles_intersect(&a.triangle(ta), &b.triangle(tb)) {
+            hit(ta, tb);
+        }
+    }
+    tested
 }
 
 /// Character `slot`'s mesh moved to `b`'s skinned vertices (built on the

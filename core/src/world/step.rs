@@ -149,14 +149,12 @@ impl CollisionWorld {
     /// lists the pairs that meet in `candidates`, ascending; returns the
     /// sphere tests made.
     pub(crate) fn character_broad_phase(&mut self) -> u64 {
-        self.character_roots.clear();
-        self.character_roots.extend(
-            self.characters
-                .iter_mut()
-                .map(|c| c.get_mut().expect("no pass panicked").own.root),
-        );
-        self.broad_phase
-            .pairs(&self.character_roots, &mut self.candidates)
+        character_pairs(
+            &mut self.characters,
+            &mut self.character_roots,
+            &mut self.broad_phase,
+            &mut self.candidates,
+        )
     }
 
     fn gather(&mut self, char_tests: u64) {
@@ -201,6 +199,25 @@ impl CollisionWorld {
         out.character_pairs.sort_unstable();
         out.sum_kinds(refits, skinned);
     }
+}
+
+/// The pairs of `characters` whose root spheres (`own.root`) meet, by
+/// `broad_phase`, into `pairs` (ascending; `roots` is its scratch); returns
+/// the sphere tests made. Discrete steps and sweeps both find their
+/// character pairs here.
+pub(crate) fn character_pairs(
+    characters: &mut [std::sync::Mutex<CharacterBody>],
+    roots: &mut Vec<Option<Sphere>>,
+    broad_phase: &mut super::broad_phase::SortAndSweep,
+    pairs: &mut Vec<(u32, u32)>,
+) -> u64 {
+    roots.clear();
+    roots.extend(
+        characters
+            .iter_mut()
+            .map(|c| c.get_mut().expect("no pass panicked").own.root),
+    );
+    broad_phase.pairs(roots, pairs)
 }
 
 /// Character `c` as a pass sees it.

@@ -36,7 +36,7 @@ use super::contacts::{CharacterPair, ObjectPair, RoomPair, SweepContacts, Timed}
 use super::continuous_state::ContinuousState;
 use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
-use super::step::side_by_side;
+use super::step::{character_pairs, side_by_side};
 
 impl CollisionWorld {
     /// Says how object `h` moves over the next [`Self::sweep`]: `path`
@@ -262,13 +262,7 @@ fn sweep_pairs(
     candidates: &mut Vec<(u32, u32)>,
     cs: &mut ContinuousState,
 ) -> (u64, u64) {
-    roots.clear();
-    roots.extend(
-        characters
-            .iter_mut()
-            .map(|c| c.get_mut().expect("no pass panicked").own.root),
-    );
-    let tests = broad_phase.pairs(roots, candidates);
+    let tests = character_pairs(characters, roots, broad_phase, candidates);
     let pairs = candidates.len() as u64;
     let out = &mut cs.contacts;
     for &(i, j) in candidates.iter() {
