@@ -43,9 +43,6 @@ pub const MARGIN: f32 = 2.0;
 /// Least and most spacing accepted, metres.
 pub const MIN_SPACING: f64 = 0.05;
 pub const MAX_SPACING: f64 = 100.0;
-/// Most characters of a crowd (its entries are listed before the budget is
-/// charged; the budget refuses far fewer of any real size).
-pub const MAX_COUNT: i64 = 1 << 20;
 
 /// A crowd as read.
 #[derive(Clone, Debug, PartialEq)]
@@ -129,7 +126,9 @@ pub(super) fn parse_crowd(
     let err_at = |span: std::ops::Range<usize>, field: &str, msg: String| {
         ScenarioError::new(file, Some(locate(text, span.start)), Some(field), msg)
     };
-    let count = ranges::whole(*raw.count.get_ref(), 1, MAX_COUNT)
+    // The cap on any scenario's characters: entries are listed before the
+    // budget is charged, and the budget refuses far fewer of any real size.
+    let count = ranges::whole(*raw.count.get_ref(), 1, ranges::MAX_CHARACTERS as i64)
         .map_err(|m| err_at(raw.count.span(), "crowd.count", m))? as usize;
     let spacing = match &raw.spacing {
         None => DEFAULT_SPACING,
