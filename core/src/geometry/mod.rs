@@ -23,6 +23,7 @@
 //! | [`ccd_swept_box`] | boxes of points over a step: the CCD early-out | §7 |
 //! | [`ccd_error_bounds`] | the root finder's certified rounding bounds (inputs' rounding included) | §7 |
 //! | [`ccd_param_box`] | dyadic boxes of the root finder's parameters `(t, u, v)` | §7 |
+//! | [`query_shapes`] | rays, balls and capsules an engine asks about: against a sphere (conservative) and a triangle (watertight ray test) | (queries) |
 //! | [`closest_point`] | closest point on a triangle, `f64` (plane-sphere false-positive reference) | (reference) |
 //! | [`enclosing`] | minimal enclosing spheres; the paper's sphere of spheres | §3 |
 //!
@@ -46,6 +47,7 @@ pub mod edge_crossing;
 pub mod enclosing;
 pub mod exact;
 pub mod plane_sphere;
+pub mod query_shapes;
 pub mod scalar;
 pub mod sphere;
 pub mod sphere_sweep;

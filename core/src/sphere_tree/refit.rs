@@ -176,6 +176,9 @@ pub struct RefitState {
     pub(super) writes: u32,
     /// Whether the nodes asked for are logged (refit ahead on).
     pub(super) ahead: bool,
+    /// Whether asking for a node logs it now (off while a query runs:
+    /// where a ray went is no forecast of the next frame's contacts).
+    logging: bool,
     /// Nodes asked for this frame, each once (when `ahead`).
     pub(super) asked: Vec<u32>,
     /// Nodes asked for last frame (when `ahead`).
@@ -208,6 +211,7 @@ impl RefitState {
             frame: 0,
             writes: 0,
             ahead: false,
+            logging: true,
             asked: Vec::new(),
             asked_before: Vec::new(),
             refits_ahead: 0,
@@ -279,6 +283,12 @@ impl RefitState {
         }
     }
 
+    /// Whether the nodes asked for from now on are logged for the next
+    /// frame's refit ahead (on unless a query runs).
+    pub(crate) fn set_logging(&mut self, on: bool) {
+        self.logging = on;
+    }
+
     /// Whether refit ahead is on.
     pub fn refits_ahead_on(&self) -> bool {
         self.ahead
@@ -318,7 +328,7 @@ impl RefitState {
     fn log_asked(&mut self, i: usize) {
         // Never grows: each node is logged at most once a frame (when its
         // stamp becomes `frame`), and the log has room for every node.
-        if self.ahead && self.asked.len() < self.asked.capacity() {
+        if self.ahead && self.logging && self.asked.len() < self.asked.capacity() {
             self.asked.push(i as u32);
         }
     }

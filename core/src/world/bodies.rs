@@ -121,6 +121,15 @@ pub(crate) struct CharacterBody {
     pub(crate) own: OwnPasses,
     /// Continuous detection's state, when on.
     pub(crate) sweep: Option<Box<CharacterSweep>>,
+    /// Whether `refit` and `skin` are in a frame of the current pose (a
+    /// step or a query began it since the pose was last set).
+    pub(crate) frame_of_pose: bool,
+    /// Whether a step ran in that frame (a second step at the same pose
+    /// starts a frame of its own, as it always did).
+    pub(crate) stepped_in_frame: bool,
+    /// Spheres refit and vertices skinned in the frame before the step
+    /// began (by queries): not the step's work.
+    pub(crate) before_step: (u64, u64),
 }
 
 /// A character's continuous state: its refit and skinning at both ends of
@@ -170,7 +179,44 @@ impl CharacterBody {
             object_pairs: Vec::new(),
             own: OwnPasses::default(),
             sweep: None,
+            frame_of_pose: false,
+            stepped_in_frame: false,
+            before_step: (0, 0),
             model,
+        }
+    }
+
+    /// The pose changed: the next step or query starts a frame.
+    pub(crate) fn pose_changed(&mut self) {
+        self.frame_of_pose = false;
+    }
+
+    /// Before a step's passes: starts a frame unless a query already
+    /// started one at this pose (then its refit spheres and skinned
+    /// vertices serve the step: nothing is refit twice).
+    pub(crate) fn begin_step_frame(&mut self) {
+        if !self.frame_of_pose || self.stepped_in_frame {
+            self.begin_step();
+        }
+        self.frame_of_pose = true;
+        self.stepped_in_frame = true;
+        self.before_step = (self.refit.refits, self.skin.skinned());
+    }
+
+    /// Spheres refit and vertices skinned since the step began.
+    pub(crate) fn step_work(&self) -> (u64, u64) {
+        (
+            self.refit.refits - self.before_step.0,
+            self.skin.skinned() - self.before_step.1,
+        )
+    }
+
+    /// Before a query: starts a frame unless one is open at this pose.
+    pub(crate) fn begin_query_frame(&mut self) {
+        if !self.frame_of_pose {
+            self.begin_step();
+            self.frame_of_pose = true;
+            self.stepped_in_frame = false;
         }
     }
 

@@ -398,6 +398,7 @@ impl CollisionWorld {
         check_pose(h, pose.skin_pose(), c.model.bind_reach())?;
         c.pose.skin.copy_from_slice(&pose.skin);
         c.pose.base = pose.base;
+        c.pose_changed();
         Ok(())
     }
 
@@ -432,6 +433,7 @@ impl CollisionWorld {
         c.next_pose.base = p * *skeleton.base();
         check_pose(h, c.next_pose.as_pose(), c.model.bind_reach())?;
         std::mem::swap(&mut c.pose, &mut c.next_pose);
+        c.pose_changed();
         Ok(())
     }
 

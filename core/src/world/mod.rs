@@ -7,6 +7,7 @@
 //! | [`collision_world`] | [`CollisionWorld`]: bodies by handle, poses, settings, observers' views |
 //! | `step` | [`CollisionWorld::step`]: a discrete step, every pass on the caller's threads |
 //! | `sweep` | [`CollisionWorld::sweep`]: continuous detection over the step since the last sweep |
+//! | [`queries`] | rays (first hit, all hits), balls and capsules against the bodies at their current poses, refit on demand |
 //! | `continuous_state` | what continuous detection keeps beside the bodies |
 //! | [`character_model`] | [`CharacterModel`]: what a character instance is made from, checked once |
 //! | [`contacts`] | [`Contacts`]: pairs of every kind by handle, with counters ([`StepContacts`], [`SweepContacts`]) |
@@ -29,6 +30,7 @@ pub mod handles;
 pub(crate) mod pass_graph;
 mod pass_pool;
 pub mod pinning;
+pub mod queries;
 mod step;
 mod sweep;
 
@@ -40,3 +42,4 @@ pub use contacts::{
 };
 pub use error::WorldError;
 pub use handles::{CharacterHandle, ObjectHandle, RoomHandle};
+pub use queries::{BodyRef, QueryCounters, QueryScratch, QueryTargets, RayHit, Touched};

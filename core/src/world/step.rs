@@ -64,7 +64,7 @@ impl CollisionWorld {
         side_by_side(&mut self.characters, |c| {
             let t0 = Instant::now();
             let c = c.get_mut().expect("no pass panicked");
-            c.begin_step();
+            c.begin_step_frame();
             c.own.root = side(c).root_sphere();
             c.own.start_seconds = t0.elapsed().as_secs_f32();
         });
@@ -168,8 +168,9 @@ impl CollisionWorld {
         let (mut refits, mut skinned) = (0, 0);
         for (i, c) in self.characters.iter_mut().enumerate() {
             let c = c.get_mut().expect("no pass panicked");
-            refits += c.refit.refits;
-            skinned += c.skin.skinned();
+            let (r, s) = c.step_work();
+            refits += r;
+            skinned += s;
             c.own.add_to(out);
             out.object_pairs.extend_from_slice(&c.object_pairs);
             for (r, slot) in c.rooms.iter().enumerate() {
@@ -253,9 +254,10 @@ fn own_passes(
     } else {
         0.0
     };
+    let (refits, skinned_vertices) = c.step_work();
     let mut counters = FrameCounters {
-        refits: c.refit.refits,
-        skinned_vertices: c.skin.skinned(),
+        refits,
+        skinned_vertices,
         ..FrameCounters::default()
     };
     if timed {

@@ -1,0 +1,273 @@
+//! A query shape (a ray, a ball, a capsule) against one body: the one pass
+//! skeleton ([`super::pass`]) with the shape as the second hierarchy, a
+//! single leaf around it. Traversal meets the body's spheres with the
+//! shape's bounding sphere and, as its guard, the shape's own sphere test;
+//! a character's spheres are refit on demand (at most once a frame, whether
+//! a contact pass or another query asked first) and only the triangles
+//! reached are skinned; the leaf test is the shape's exact triangle test
+//! in `f64` (`geometry::query_shapes`).
+
+use std::cell::Cell;
+
+use crate::geometry::query_shapes::{
+    Capsule, Ray, sphere_overlaps_triangle, sphere_reaches_sphere,
+};
+use crate::geometry::{Point, Sphere, Triangle};
+use crate::mesh::{TriMesh, TriangleId};
+use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
+use crate::sphere_tree::{Hierarchy, Node, NodeId, SphereTree, Workspace, traverse_guarded};
+
+use super::character_side::CharacterSide;
+use super::counters::FrameCounters;
+use super::pass::{Pass, Traversed};
+use super::prepared_triangles::PreparedTriangles;
+
+/// What a query asks about, in the frame of the body it is run against.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum QueryShape {
+    /// The triangles a ray crosses, with where.
+    Ray(Ray),
+    /// The triangles a closed ball touches.
+    Ball(Sphere),
+    /// The triangles a capsule touches.
+    Capsule(Capsule),
+}
+
+impl QueryShape {
+    /// Whether the shape may reach node sphere `s` (conservative).
+    #[inline]
+    pub(crate) fn reaches(&self, s: &Sphere) -> bool {
+        match self {
+            QueryShape::Ray(r) => r.reaches_sphere(s),
+            QueryShape::Ball(b) => sphere_reaches_sphere(b, s),
+            QueryShape::Capsule(c) => c.reaches_sphere(s),
+        }
+    }
+
+    /// The sphere a traversal meets the body with: for a ray, around its
+    /// part inside `root` (`None`: it misses the root); the others' own.
+    pub(crate) fn bounding_sphere(&self, root: &Sphere) -> Option<Sphere> {
+        match self {
+            QueryShape::Ray(r) => r
+                .sphere_interval(root)
+                .map(|(t0, t1)| r.bounding_sphere(t0, t1)),
+            QueryShape::Ball(b) => sphere_reaches_sphere(b, root).then_some(*b),
+            QueryShape::Capsule(c) => c.reaches_sphere(root).then(|| c.bounding_sphere()),
+        }
+    }
+
+    /// The exact test against triangle `t`: `(distance, barycentric)` along
+    /// a ray, `(0, 0)` for the others.
+    #[inline]
+    fn meets(&self, t: &Triangle) -> Option<(f64, [f64; 3])> {
+        match self {
+            QueryShape::Ray(r) => r.triangle_hit(t).map(|h| (h.distance, h.barycentric)),
+            QueryShape::Ball(b) => sphere_overlaps_triangle(b, t).then_some((0.0, [0.0; 3])),
+            QueryShape::Capsule(c) => c.overlaps_triangle(t).then_some((0.0, [0.0; 3])),
+        }
+    }
+}
+
+/// A triangle a query shape meets.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct ShapeHit {
+    /// The body's triangle (its mesh index).
+    pub(crate) triangle: u32,
+    /// Along a ray: the distance from its origin; otherwise 0.
+    pub(crate) distance: f64,
+    /// Along a ray: the point's barycentric coordinates on the triangle.
+    pub(crate) barycentric: [f64; 3],
+}
+
+/// A body as a query sees it: a hierarchy to traverse and its triangles.
+pub(crate) trait QueryTarget {
+    /// Spheres refit and vertices skinned so far this frame.
+    fn work(&self) -> (u64, u64);
+
+    /// Traverses the body's hierarchy against `node` (the shape's one-leaf
+    /// tree) with `guard`, pushing leaf pairs (the body's leaf as `a`);
+    /// returns the traversal's counters.
+    fn traverse_against<G, F>(
+        &mut self,
+        node: &mut SphereTree,
+        ws: &mut Workspace,
+        guard: G,
+        push: F,
+    ) -> TraversalStats
+    where
+        G: FnMut(NodeId, &Sphere) -> bool,
+        F: FnMut(LeafPair);
+
+    /// Gets triangle `t` ready to be read (skins a character's corners).
+    #[inline]
+    fn prepare(&mut self, _t: u32) {}
+
+    /// Triangle `t` in the body's frame.
+    fn triangle(&self, t: u32) -> Triangle;
+}
+
+impl QueryTarget for CharacterSide<'_> {
+    fn work(&self) -> (u64, u64) {
+        CharacterSide::work(self)
+    }
+
+    fn traverse_against<G, F>(
+        &mut self,
+        node: &mut SphereTree,
+        ws: &mut Workspace,
+        guard: G,
+        push: F,
+    ) -> TraversalStats
+    where
+        G: FnMut(NodeId, &Sphere) -> bool,
+        F: FnMut(LeafPair),
+    {
+        let mut h = self.hierarchy::<false>();
+        traverse_guarded(&mut h, node, ws, guard, push)
+    }
+
+    #[inline]
+    fn prepare(&mut self, t: u32) {
+        self.ensure_triangle(t);
+    }
+
+    #[inline]
+    fn triangle(&self, t: u32) -> Triangle {
+        CharacterSide::triangle(self, t)
+    }
+}
+
+/// A rigid body (a room, an object in its own frame): its static tree and
+/// triangles. Every leaf of an environment tree names a mesh triangle (a
+/// big triangle's division leaves, their big triangle).
+pub(crate) struct RigidTarget<'a> {
+    pub(crate) tree: &'a SphereTree,
+    pub(crate) mesh: &'a TriMesh,
+}
+
+/// A static tree through a shared borrow.
+struct Static<'a>(&'a SphereTree);
+
+impl Hierarchy for Static<'_> {
+    #[inline]
+    fn tree(&self) -> &SphereTree {
+        self.0
+    }
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> Sphere {
+        self.0.nodes()[id.index()].sphere
+    }
+}
+
+impl QueryTarget for RigidTarget<'_> {
+    fn work(&self) -> (u64, u64) {
+        (0, 0)
+    }
+
+    fn traverse_against<G, F>(
+        &mut self,
+        node: &mut SphereTree,
+        ws: &mut Workspace,
+        guard: G,
+        push: F,
+    ) -> TraversalStats
+    where
+        G: FnMut(NodeId, &Sphere) -> bool,
+        F: FnMut(LeafPair),
+    {
+        traverse_guarded(&mut Static(self.tree), node, ws, guard, push)
+    }
+
+    #[inline]
+    fn triangle(&self, t: u32) -> Triangle {
+        self.mesh.triangle(TriangleId(t))
+    }
+}
+
+/// The one-leaf tree a query shape is traversed as (kept in the caller's
+/// scratch: set per query, never reallocated).
+pub(crate) fn shape_node() -> SphereTree {
+    SphereTree::from_nodes(vec![Node::leaf(Sphere::new(Point::origin(), 0.0), 0)])
+}
+
+/// Sets the one-leaf tree's sphere.
+pub(crate) fn set_shape_node(node: &mut SphereTree, s: Sphere) {
+    if let Some(x) = node.spheres_mut().next() {
+        *x = s;
+    }
+}
+
+/// A query shape against one body whose root it may reach.
+pub(crate) struct QueryPass<'a, T: QueryTarget> {
+    pub(crate) target: T,
+    pub(crate) shape: QueryShape,
+    /// The shape's one-leaf tree, its sphere set to the bounding sphere.
+    pub(crate) node: &'a mut SphereTree,
+}
+
+impl<T: QueryTarget> Pass for QueryPass<'_, T> {
+    type Hit = ShapeHit;
+
+    fn work(&self) -> (u64, u64) {
+        self.target.work()
+    }
+
+    fn traverse<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed {
+        let shape = self.shape;
+        let guards = Cell::new(0u64);
+        let stats = self.target.traverse_against(
+            self.node,
+            ws,
+            |_, s| {
+                guards.set(guards.get() + 1);
+                shape.reaches(s)
+            },
+            |p| leaf_pairs.push(p),
+        );
+        Traversed {
+            stats,
+            guard_sphere_tests: guards.get(),
+            ..Traversed::default()
+        }
+    }
+
+    fn prepare(&mut self, leaf_pairs: &[LeafPair]) {
+        for p in leaf_pairs {
+            self.target.prepare(p.primitive_a);
+        }
+    }
+
+    #[inline]
+    fn test(
+        &mut self,
+        leaf_pairs: &[LeafPair],
+        k: usize,
+        _prepared: &mut [PreparedTriangles; 2],
+        c: &mut FrameCounters,
+    ) -> Option<ShapeHit> {
+        let t = leaf_pairs[k].primitive_a;
+        c.tri_tri += 1;
+        self.shape
+            .meets(&self.target.triangle(t))
+            .map(|(distance, barycentric)| ShapeHit {
+                triangle: t,
+                distance,
+                barycentric,
+            })
+    }
+
+    /// Nearest first; a triangle met through several leaves (a big
+    /// triangle's division) once.
+    fn finish(hits: &mut Vec<ShapeHit>) {
+        hits.sort_unstable_by(|x, y| {
+            x.distance
+                .total_cmp(&y.distance)
+                .then(x.triangle.cmp(&y.triangle))
+        });
+        hits.dedup_by_key(|h| h.triangle);
+    }
+}
