@@ -83,6 +83,14 @@ enum Command {
     /// name unless --kind is given. A malformed file stops with one line
     /// naming the file and row.
     CcdQueries(cli::ccd_queries::CcdQueriesArgs),
+    /// Cast rays against a scenario's posed characters frame by frame (a
+    /// hit-scan fan swept across them, a picking grid over the first):
+    /// each ray's first hit from the library's query, refit and skinned on
+    /// demand, checked against an exact brute-force reference, timed against
+    /// parry3d (skin every vertex, update_vertices, cast) and against
+    /// skinning everything and testing every triangle; one thread each. The
+    /// rays, hits and the spheres refit on their way are recorded.
+    Rays(cli::rays::RaysArgs),
 }
 
 fn main() -> ExitCode {
@@ -118,6 +126,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => cli::compare::compare(args).and_then(|out| emit(&out)),
         Command::Kernels(args) => cli::kernels::kernels(args).and_then(|out| emit(&out)),
         Command::PlaneSphereStudy(args) => cli::study::study(args).and_then(|out| emit(&out)),
+        Command::Rays(args) => cli::rays::rays(args).and_then(|out| emit(&out)),
         Command::CcdQueries(args) => cli::ccd_queries::ccd_queries(args).and_then(|out| emit(&out)),
     };
     match result {

@@ -377,6 +377,12 @@ impl Session {
         self.detect_in(m, true);
     }
 
+    /// Hands the current poses to method `m`'s world (no step: queries
+    /// then refit and skin on demand).
+    pub fn hand_poses(&mut self, m: usize) {
+        self.feed(m);
+    }
+
     /// Hands the current poses to method `m`'s world.
     fn feed(&mut self, m: usize) {
         let w = &mut self.worlds[m];

@@ -10,6 +10,7 @@
 
 pub mod continuous;
 pub mod measure;
+pub mod rays;
 pub mod variants;
 
 pub use measure::{Bench, MethodBench, measure};

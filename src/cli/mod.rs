@@ -12,6 +12,7 @@
 //! | [`observe`] | what watches that loop: the ground truth, `--ccd`, the report, the recordings, a frame dump, the progress bar |
 //! | [`bench`] | `bench`: cost per frame against the parry3d baseline |
 //! | [`scaling`] | `scaling`: cost against character, room and crowd size |
+//! | [`rays`] | `rays`: ray casts against posed characters, exact reference, parry3d baseline |
 //! | [`figures`] | `figures`: recordings of the paper's Figures 1-3 |
 //! | [`kernels`] | `kernels`: operations charged and paid per kernel |
 //! | [`ccd_queries`] | `ccd-queries`: the continuous kernels on query files with exact answers |
@@ -26,6 +27,7 @@ pub mod inspect;
 pub mod kernels;
 pub mod observe;
 pub mod play;
+pub mod rays;
 pub mod run;
 pub mod scaling;
 pub mod study;

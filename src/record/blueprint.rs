@@ -208,3 +208,46 @@ pub fn ccd_blueprint(bodies: &[String]) -> Blueprint {
                 .with_play_state(PlayState::Following),
         )
 }
+
+/// `cornertree rays`: left, the rays (to their first hit, or on), the hit
+/// points and the characters' meshes, with the spheres the rays refit from
+/// level `from_level` down (the levels above are metres wide and hide the
+/// rest); right, the spheres the rays refit this frame below the root (the
+/// root holds the whole character), and the hits per frame.
+pub fn rays_blueprint(characters: &[String], from_level: usize, levels: usize) -> Blueprint {
+    let mut close: Vec<String> = vec![format!("/{}", layout::WORLD), "/world/rays/**".to_string()];
+    let mut refit: Vec<String> = vec![
+        format!("/{}", layout::WORLD),
+        "/world/rays/hit_points".into(),
+    ];
+    for c in characters {
+        close.push(format!("/{c}/mesh"));
+        close.extend((from_level..levels).map(|l| format!("/{c}/refit_by_rays/level_{l}")));
+        refit.extend((1..levels).map(|l| format!("/{c}/refit_by_rays/level_{l}")));
+    }
+    let rays = Spatial3DView::new("rays, hits and the spheres they refit")
+        .with_origin("/")
+        .with_contents(close);
+    let spheres = Spatial3DView::new("spheres refit by the rays, below the root")
+        .with_origin("/")
+        .with_contents(refit);
+    let stats = TimeSeriesView::new("rays that hit a character").with_origin("/stats");
+    Blueprint::new(
+        Horizontal::new([
+            rays.into(),
+            Vertical::new([spheres.into(), stats.into()])
+                .with_row_shares([3.0, 1.0])
+                .into(),
+        ])
+        .with_column_shares([3.0, 2.0]),
+    )
+    .with_auto_views(false)
+    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
+    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
+    .with_time_panel(
+        TimePanel::new()
+            .with_state(PanelState::Collapsed)
+            .with_timeline(layout::FRAME)
+            .with_play_state(PlayState::Paused),
+    )
+}

@@ -18,6 +18,7 @@ pub mod ccd_recorder;
 pub mod draw;
 pub mod figures;
 pub mod layout;
+pub mod rays;
 pub mod recorder;
 pub mod target;
 

@@ -24,6 +24,7 @@ pub mod inspect;
 pub mod kernel_inputs;
 pub mod kernels;
 pub mod paper;
+pub mod rays;
 pub mod run;
 pub mod study;
 pub mod tables;

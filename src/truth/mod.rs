@@ -30,6 +30,7 @@ pub mod disagreement;
 pub mod ground_truth;
 pub mod parry_reference;
 pub mod parry_world;
+pub mod ray_reference;
 pub mod substep;
 pub mod substep_score;
 

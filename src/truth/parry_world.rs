@@ -39,7 +39,7 @@ use cornertree::world::{
     CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
 };
 
-fn to_parry(p: &Point) -> PVector {
+pub(crate) fn to_parry(p: &Point) -> PVector {
     PVector::new(p.x, p.y, p.z)
 }
 
@@ -261,7 +261,7 @@ fn touching(a: &ParryMesh, b: &ParryMesh, mut hit: impl FnMut(u32, u32)) -> u64 
 
 /// Character `slot`'s mesh moved to `b`'s skinned vertices (built on the
 /// first call).
-fn update_character(
+pub(crate) fn update_character(
     slot: &mut Option<ParryMesh>,
     indices: &[[u32; 3]],
     b: &PoseBuffers,

@@ -136,10 +136,28 @@ impl Ray {
         (t0 <= t1).then_some((t0, t1))
     }
 
-    /// Whether the ray may pass through `s` ([`Ray::sphere_interval`]).
+    /// Whether the ray may pass through `s`: its nearest point to the
+    /// centre (clamped to `[0, max_distance]`) lies within the radius,
+    /// widened by a billionth relatively and a millionth of the centre's
+    /// distance squared (`f64` rounding here is below 10⁻¹⁵ of those
+    /// distances). No square root: the traversal's guard.
     #[inline]
     pub fn reaches_sphere(&self, s: &Sphere) -> bool {
-        self.sphere_interval(s).is_some()
+        let o = self.origin.cast::<f64>();
+        let d = self.direction.cast::<f64>();
+        let m = s.center.cast::<f64>() - o;
+        let along = m.dot(&d);
+        let max = f64::from(self.max_distance);
+        let m2 = m.norm_squared();
+        let dist2 = if along <= 0.0 {
+            m2
+        } else if along >= max {
+            (m - d * max).norm_squared()
+        } else {
+            (m - d * along).norm_squared()
+        };
+        let r = f64::from(s.radius);
+        dist2 <= r * r * (1.0 + 1e-9) + 1e-12 * m2
     }
 
     /// A sphere holding the ray's points between distances `t0` and `t1`
@@ -525,6 +543,19 @@ mod tests {
                 .0,
             0.0
         );
+        // The guard agrees with the interval away from tangency.
+        for (c, yes) in [
+            ([5.0, 0.99, 0.0], true),
+            ([5.0, 1.01, 0.0], false),
+            ([-0.5, 0.8, 0.0], true),
+            ([-1.2, 0.0, 0.0], false),
+            ([10.9, 0.0, 0.0], true),
+            ([11.1, 0.0, 0.0], false),
+        ] {
+            let s = Sphere::new(Point::from(c), 1.0);
+            assert_eq!(r.reaches_sphere(&s), yes, "{c:?}");
+            assert_eq!(r.sphere_interval(&s).is_some(), yes, "{c:?}");
+        }
         // The bounding sphere of a stretch holds both its ends.
         let b = r.bounding_sphere(2.0, 7.0);
         assert!(b.contains_point(&Point::new(2.0, 0.0, 0.0), 0.0));

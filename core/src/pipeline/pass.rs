@@ -124,6 +124,12 @@ pub(crate) trait Pass {
         false
     }
 
+    /// Whether the stages are timed (six clock reads a pass: nothing next
+    /// to a contact pass, a tenth of a ray query's cost).
+    fn times_stages(&self) -> bool {
+        true
+    }
+
     /// Gets ready what the leaf tests will read (timed as skinning).
     fn prepare(&mut self, _leaf_pairs: &[LeafPair]) {}
 
@@ -156,8 +162,11 @@ pub(crate) fn run<P: Pass>(
     // A hit list never used before (its slot's first pass).
     let first_use = hits.capacity() == 0;
 
-    let t0 = Instant::now();
-    let tick0 = ticks();
+    let clock = pass.times_stages();
+    let now = || clock.then(Instant::now);
+    let since = |t: Option<Instant>| t.map_or(0.0, ms_since);
+    let t0 = now();
+    let tick0 = if clock { ticks() } else { 0 };
     scratch.leaf_pairs.clear();
     let (ws, leaf_pairs) = (&mut scratch.workspace, &mut scratch.leaf_pairs);
     let timed = pass.timed();
@@ -166,8 +175,8 @@ pub(crate) fn run<P: Pass>(
     } else {
         pass.traverse::<false>(ws, leaf_pairs)
     };
-    let elapsed = ms_since(t0);
-    if timed {
+    let elapsed = since(t0);
+    if timed && clock {
         let total_ticks = ticks().wrapping_sub(tick0).max(1);
         c.time.refit_ms = elapsed * (tr.refit_ticks as f64 / total_ticks as f64).min(1.0);
         c.time.traversal_ms = elapsed - c.time.refit_ms;
@@ -177,11 +186,11 @@ pub(crate) fn run<P: Pass>(
     c.sphere_sphere = tr.stats.sphere_tests + tr.guard_sphere_tests;
     c.plane_sphere = tr.plane_tests;
 
-    let t0 = Instant::now();
+    let t0 = now();
     pass.prepare(&scratch.leaf_pairs);
-    c.time.skinning_ms = ms_since(t0);
+    c.time.skinning_ms = since(t0);
 
-    let t0 = Instant::now();
+    let t0 = now();
     hits.clear();
     pass.begin_narrow();
     let [a, b] = &mut scratch.prepared;
@@ -211,6 +220,6 @@ pub(crate) fn run<P: Pass>(
     if first_use {
         hits.reserve((2 * found).max(64));
     }
-    c.time.narrow_ms = ms_since(t0);
+    c.time.narrow_ms = since(t0);
     c
 }

@@ -122,8 +122,14 @@ impl QueryTarget for CharacterSide<'_> {
         G: FnMut(NodeId, &Sphere) -> bool,
         F: FnMut(LeafPair),
     {
-        let mut h = self.hierarchy::<false>();
-        traverse_guarded(&mut h, node, ws, guard, push)
+        let mut h = LeavesUnrefit {
+            inner: self.hierarchy::<false>(),
+            leaves: 0,
+        };
+        let mut stats = traverse_guarded(&mut h, node, ws, guard, push);
+        // A leaf let through was no test.
+        stats.sphere_tests -= h.leaves;
+        stats
     }
 
     #[inline]
@@ -134,6 +140,39 @@ impl QueryTarget for CharacterSide<'_> {
     #[inline]
     fn triangle(&self, t: u32) -> Triangle {
         CharacterSide::triangle(self, t)
+    }
+}
+
+/// A character's tree for a query: inner spheres refit on demand, leaves
+/// never refit — a leaf whose parent the shape reaches goes straight to
+/// the exact triangle test. Skinning a leaf triangle's three corners (each
+/// shared with about six triangles) and testing it costs less than
+/// refitting the leaf's sphere from its joints, and answers exactly.
+struct LeavesUnrefit<H> {
+    inner: H,
+    /// Leaves let through (their "sphere" holds everything).
+    leaves: u64,
+}
+
+/// A sphere every shape reaches.
+const EVERYWHERE: Sphere = Sphere::new(Point::new(0.0, 0.0, 0.0), f32::INFINITY);
+
+impl<H: Hierarchy> Hierarchy for LeavesUnrefit<H> {
+    #[inline]
+    fn tree(&self) -> &SphereTree {
+        self.inner.tree()
+    }
+    #[inline]
+    fn sphere(&mut self, id: NodeId) -> Sphere {
+        if self.inner.tree().node(id).is_leaf() {
+            self.leaves += 1;
+            return EVERYWHERE;
+        }
+        self.inner.sphere(id)
+    }
+    #[inline]
+    fn prefetch(&self, id: NodeId) {
+        self.inner.prefetch(id);
     }
 }
 
@@ -212,6 +251,10 @@ impl<T: QueryTarget> Pass for QueryPass<'_, T> {
         self.target.work()
     }
 
+    fn times_stages(&self) -> bool {
+        false
+    }
+
     fn traverse<const TIMED: bool>(
         &mut self,
         ws: &mut Workspace,
@@ -223,6 +266,9 @@ impl<T: QueryTarget> Pass for QueryPass<'_, T> {
             self.node,
             ws,
             |_, s| {
+                if s.radius == f32::INFINITY {
+                    return true;
+                }
                 guards.set(guards.get() + 1);
                 shape.reaches(s)
             },

@@ -91,7 +91,6 @@ impl QueryTargets {
 
 /// Where a ray meets a body.
 #[derive(Clone, Copy, Debug, PartialEq)]
-#[cfg_attr(feature = "serde", derive(serde::Serialize))]
 pub struct RayHit {
     /// The body met.
     pub body: BodyRef,
