@@ -39,6 +39,9 @@ pub(crate) struct Traversed {
     pub(crate) plane_tests: u64,
     /// Time-stamp ticks spent refitting, when timed.
     pub(crate) refit_ticks: u64,
+    /// Leaf tests a traversal made on the way (a ray's nearest-hit
+    /// search), counted with the narrow phase's.
+    pub(crate) leaf_tests: u64,
 }
 
 /// The leaf pairs of a traversal and the working memory of its tests, kept
@@ -185,6 +188,7 @@ pub(crate) fn run<P: Pass>(
     }
     c.sphere_sphere = tr.stats.sphere_tests + tr.guard_sphere_tests;
     c.plane_sphere = tr.plane_tests;
+    c.tri_tri = tr.leaf_tests;
 
     let t0 = now();
     pass.prepare(&scratch.leaf_pairs);

@@ -14,10 +14,11 @@ use crate::geometry::query_shapes::{
 };
 use crate::geometry::{Point, Sphere, Triangle};
 use crate::mesh::{TriMesh, TriangleId};
+use crate::sphere_tree::refit::Refitter;
 use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
 use crate::sphere_tree::{Hierarchy, Node, NodeId, SphereTree, Workspace, traverse_guarded};
 
-use super::character_side::CharacterSide;
+use super::character_side::{CharacterSide, TimedRefit};
 use super::counters::FrameCounters;
 use super::pass::{Pass, Traversed};
 use super::prepared_triangles::PreparedTriangles;
@@ -98,6 +99,11 @@ pub(crate) trait QueryTarget {
         G: FnMut(NodeId, &Sphere) -> bool,
         F: FnMut(LeafPair);
 
+    /// A ray's nearest hit, found while traversing: each leaf reached is
+    /// tested at once and the ray shortened to the best hit so far, so
+    /// spheres beyond it are not descended ([`nearest`]).
+    fn nearest(&mut self, node: &mut SphereTree, ws: &mut Workspace, ray: &Ray) -> Nearest;
+
     /// Gets triangle `t` ready to be read (skins a character's corners).
     #[inline]
     fn prepare(&mut self, _t: u32) {}
@@ -130,6 +136,39 @@ impl QueryTarget for CharacterSide<'_> {
         // A leaf let through was no test.
         stats.sphere_tests -= h.leaves;
         stats
+    }
+
+    fn nearest(&mut self, node: &mut SphereTree, ws: &mut Workspace, ray: &Ray) -> Nearest {
+        let CharacterSide {
+            character,
+            tree,
+            model,
+            pose,
+            refit,
+            skin,
+        } = self;
+        let mut h = LeavesUnrefit {
+            inner: TimedRefit::<false> {
+                refitter: Refitter {
+                    tree,
+                    skin: pose.skin,
+                    state: refit,
+                },
+                base: *pose.base,
+                ticks: 0,
+            },
+            leaves: 0,
+        };
+        let indices = character.mesh.indices();
+        let mut found = nearest(&mut h, node, ws, ray, |t| {
+            let corners = indices[t as usize];
+            for v in corners {
+                skin.ensure(*pose, character, *model, v);
+            }
+            skin.triangle(corners)
+        });
+        found.stats.sphere_tests -= h.leaves;
+        found
     }
 
     #[inline]
@@ -217,9 +256,75 @@ impl QueryTarget for RigidTarget<'_> {
         traverse_guarded(&mut Static(self.tree), node, ws, guard, push)
     }
 
+    fn nearest(&mut self, node: &mut SphereTree, ws: &mut Workspace, ray: &Ray) -> Nearest {
+        let mesh = self.mesh;
+        nearest(&mut Static(self.tree), node, ws, ray, |t| {
+            mesh.triangle(TriangleId(t))
+        })
+    }
+
     #[inline]
     fn triangle(&self, t: u32) -> Triangle {
         self.mesh.triangle(TriangleId(t))
+    }
+}
+
+/// What [`QueryTarget::nearest`] found and cost.
+pub(crate) struct Nearest {
+    pub(crate) stats: TraversalStats,
+    /// The shape's own sphere tests.
+    pub(crate) guard_tests: u64,
+    /// Triangles tested on the way.
+    pub(crate) triangle_tests: u64,
+    /// The leaf of the nearest hit, if any.
+    pub(crate) leaf: Option<LeafPair>,
+}
+
+/// The traversal of [`traverse_guarded`] with a ray as the second tree's
+/// leaf: every leaf reached is tested at once (`triangle` fetches, and
+/// skins, its triangle), and the guard meets spheres with the ray cut at
+/// the best hit so far (rounded up to `f32`: a tie is kept, never cut).
+/// The same traversal as every pass; only its closures differ.
+fn nearest<H: Hierarchy>(
+    h: &mut H,
+    node: &mut SphereTree,
+    ws: &mut Workspace,
+    ray: &Ray,
+    mut triangle: impl FnMut(u32) -> Triangle,
+) -> Nearest {
+    let reach = Cell::new(ray.max_distance);
+    let best = Cell::new((f64::INFINITY, None::<LeafPair>));
+    let (guards, tests) = (Cell::new(0u64), Cell::new(0u64));
+    let stats = traverse_guarded(
+        h,
+        node,
+        ws,
+        |_, s| {
+            if s.radius == f32::INFINITY {
+                return true;
+            }
+            guards.set(guards.get() + 1);
+            let mut r = *ray;
+            r.max_distance = reach.get();
+            r.reaches_sphere(s)
+        },
+        |p| {
+            tests.set(tests.get() + 1);
+            let mut r = *ray;
+            r.max_distance = reach.get();
+            if let Some(hit) = r.triangle_hit(&triangle(p.primitive_a))
+                && hit.distance < best.get().0
+            {
+                best.set((hit.distance, Some(p)));
+                reach.set((hit.distance as f32).next_up());
+            }
+        },
+    );
+    Nearest {
+        stats,
+        guard_tests: guards.get(),
+        triangle_tests: tests.get(),
+        leaf: best.get().1,
     }
 }
 
@@ -242,6 +347,9 @@ pub(crate) struct QueryPass<'a, T: QueryTarget> {
     pub(crate) shape: QueryShape,
     /// The shape's one-leaf tree, its sphere set to the bounding sphere.
     pub(crate) node: &'a mut SphereTree,
+    /// A ray's nearest hit only ([`QueryTarget::nearest`]); otherwise
+    /// every hit.
+    pub(crate) nearest_only: bool,
 }
 
 impl<T: QueryTarget> Pass for QueryPass<'_, T> {
@@ -261,6 +369,17 @@ impl<T: QueryTarget> Pass for QueryPass<'_, T> {
         leaf_pairs: &mut Vec<LeafPair>,
     ) -> Traversed {
         let shape = self.shape;
+        if let (true, QueryShape::Ray(ray)) = (self.nearest_only, shape) {
+            let found = self.target.nearest(self.node, ws, &ray);
+            // The narrow phase confirms the nearest hit alone.
+            leaf_pairs.extend(found.leaf);
+            return Traversed {
+                stats: found.stats,
+                guard_sphere_tests: found.guard_tests,
+                leaf_tests: found.triangle_tests,
+                ..Traversed::default()
+            };
+        }
         let guards = Cell::new(0u64);
         let stats = self.target.traverse_against(
             self.node,

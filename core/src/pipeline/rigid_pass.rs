@@ -165,6 +165,7 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
             guard_sphere_tests: 0,
             plane_tests,
             refit_ticks: a.refit_ticks(),
+            leaf_tests: 0,
         }
     }
 

@@ -135,6 +135,7 @@ impl Pass for SweptRoomPass<'_> {
             guard_sphere_tests: sphere_tests,
             plane_tests,
             refit_ticks: 0,
+            leaf_tests: 0,
         }
     }
 

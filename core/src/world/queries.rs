@@ -189,6 +189,10 @@ trait Gather {
     fn reach(&self) -> Real {
         Real::INFINITY
     }
+    /// Whether only a ray's nearest hit is wanted.
+    fn nearest_only(&self) -> bool {
+        false
+    }
 }
 
 impl CollisionWorld {
@@ -234,6 +238,9 @@ impl CollisionWorld {
             }
             fn reach(&self) -> Real {
                 self.best.map_or(self.ray.max_distance, |b| b.distance)
+            }
+            fn nearest_only(&self) -> bool {
+                true
             }
         }
         let mut first = First {
@@ -351,7 +358,7 @@ impl CollisionWorld {
             let body = BodyRef::Room(RoomHandle(k as u32));
             if targets.wants(body) {
                 let s = clipped(shape, gather.reach());
-                rigid(room, s, false, scratch);
+                rigid(room, s, false, gather.nearest_only(), scratch);
                 gather.take(body, &scratch.hits);
             }
         }
@@ -359,7 +366,7 @@ impl CollisionWorld {
             let body = BodyRef::Object(ObjectHandle(k as u32));
             if targets.wants(body) {
                 let s = clipped(shape, gather.reach());
-                rigid(object, s, true, scratch);
+                rigid(object, s, true, gather.nearest_only(), scratch);
                 gather.take(body, &scratch.hits);
             }
         }
@@ -372,7 +379,7 @@ impl CollisionWorld {
             let mut c = c.lock().expect("no pass panicked");
             c.begin_query_frame();
             c.refit.set_logging(false);
-            character(&mut c, s, scratch);
+            character(&mut c, s, gather.nearest_only(), scratch);
             c.refit.set_logging(true);
             gather.take(body, &scratch.hits);
         }
@@ -381,7 +388,12 @@ impl CollisionWorld {
 
 /// `shape` (in the world) against character `c`, in a frame of its
 /// current pose: its hits (in `scratch`).
-fn character(c: &mut CharacterBody, shape: QueryShape, scratch: &mut QueryScratch) {
+fn character(
+    c: &mut CharacterBody,
+    shape: QueryShape,
+    nearest_only: bool,
+    scratch: &mut QueryScratch,
+) {
     scratch.hits.clear();
     let mut side = side(c);
     let Some(root) = side.root_sphere() else {
@@ -396,13 +408,20 @@ fn character(c: &mut CharacterBody, shape: QueryShape, scratch: &mut QueryScratc
         target: side,
         shape,
         node: &mut scratch.node,
+        nearest_only,
     };
     let counters = run(&mut pass, &mut scratch.pass, &mut scratch.hits);
     scratch.counters.add_pass(&counters);
 }
 
 /// `shape` (in the world) against a rigid body: its hits (in `scratch`).
-fn rigid(body: &RigidBody, shape: QueryShape, moves: bool, scratch: &mut QueryScratch) {
+fn rigid(
+    body: &RigidBody,
+    shape: QueryShape,
+    moves: bool,
+    nearest_only: bool,
+    scratch: &mut QueryScratch,
+) {
     scratch.hits.clear();
     let tree = &body.tree.tree;
     if tree.is_empty() {
@@ -431,6 +450,7 @@ fn rigid(body: &RigidBody, shape: QueryShape, moves: bool, scratch: &mut QuerySc
         },
         shape: local,
         node: &mut scratch.node,
+        nearest_only,
     };
     let counters = run(&mut pass, &mut scratch.pass, &mut scratch.hits);
     scratch.counters.add_pass(&counters);
