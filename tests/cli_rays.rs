@@ -7,6 +7,7 @@ use std::path::Path;
 use std::process::Command;
 
 #[path = "common/rrd.rs"]
+#[allow(dead_code)]
 mod rrd;
 
 #[test]

@@ -9,6 +9,7 @@
 //! | [`figures`] | the paper's Figures 1–3 as recordings |
 //! | [`draw`] | points, meshes, triangle soups, spheres per level, body names and colours |
 //! | [`target`] | where recordings go (files, a viewer) |
+//! | [`footer`] | rerun's footer added to a recording when its run ends (streamed without it) |
 //!
 //! One entity per batch (a level's spheres, the colliding triangles), never
 //! one per sphere: the viewer stays fast with tens of thousands of spheres.
@@ -17,6 +18,7 @@ pub mod blueprint;
 pub mod ccd_recorder;
 pub mod draw;
 pub mod figures;
+pub mod footer;
 pub mod layout;
 pub mod rays;
 pub mod recorder;

@@ -731,6 +731,12 @@ impl Recorder {
         let _ = self.event("INFO", note);
         self.rec.flush_blocking()
     }
+
+    /// Closes the stream: its sink (a file's writer thread) is flushed and
+    /// dropped before this returns.
+    pub fn close(self) {
+        self.rec.disconnect();
+    }
 }
 
 /// Names of the time series, logged once.

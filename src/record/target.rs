@@ -95,7 +95,8 @@ impl RecordingTarget {
                 // Streamed to the file without rerun's footer: the footer
                 // indexes every chunk, and the SDK keeps that index in
                 // memory until the end, so a long run's memory would grow
-                // with its recording (docs/performance.md, "Long runs").
+                // with its recording (docs/performance.md, "Long runs"); it
+                // is added when the run ends (`record::footer`).
                 let cannot = |e: &dyn std::fmt::Display| {
                     anyhow::anyhow!("{}: cannot write the recording: {e}", path.display())
                 };

@@ -8,7 +8,7 @@ use serde::Serialize;
 use crate::truth::WorldPairs;
 use crate::truth::{
     Accuracy, AccuracyTotals, Classified, Disagreement, FalseNegative, FalsePositive,
-    FrameAccuracy, MethodTruth,
+    FrameAccuracy, MethodTruth, MissCause,
 };
 use cornertree::pipeline::FrameCounters;
 use cornertree::pipeline::Method;
@@ -173,6 +173,10 @@ pub struct WorldFrameRecord {
     /// parry's pairs against the exact ones, per kind.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub parry_accuracy_by_kind: Option<ByKind<Accuracy>>,
+    /// Per kind, the exact pairs a character triangle of which edge
+    /// de-duplication removed (each also a false negative of the method).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub removed_by_dedup_by_kind: Option<ByKind<u64>>,
 }
 
 impl WorldFrameRecord {
@@ -193,6 +197,7 @@ impl WorldFrameRecord {
             },
             accuracy_by_kind: None,
             parry_accuracy_by_kind: None,
+            removed_by_dedup_by_kind: None,
         }
     }
 }
@@ -233,6 +238,11 @@ pub struct MethodRun {
     /// With `run --ccd`: continuous detection over the run.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub continuous: Option<super::continuous::ContinuousTotals>,
+    /// The summary table's column of this method (maximum and mean per
+    /// frame, accuracy over the run, the reference pairs de-duplication
+    /// removed and recall over the kept triangles).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub summary: Option<Summary>,
 }
 
 /// Maximum and mean of one counter.
@@ -293,6 +303,22 @@ pub struct Summary {
     /// Largest distance of a false positive (metres).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_false_positive_distance: Option<f64>,
+    /// Reference pairs whose character triangle edge de-duplication
+    /// removed (paper §4): no method can report them (each is a false
+    /// negative of cause `dedup`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reference_pairs_removed_by_dedup: Option<u64>,
+    /// Pair recall over the reference pairs whose character triangle the
+    /// method keeps: `tp / (tp + fn − removed)`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub recall_over_kept_triangles: Option<f64>,
+}
+
+impl Summary {
+    /// Reference pairs in all (`tp + fn` of the pairs), with the truth.
+    pub fn reference_pairs(&self) -> Option<u64> {
+        self.accuracy.map(|a| a.pairs.tp + a.pairs.fn_)
+    }
 }
 
 /// One pair kind over a world run: pairs, the largest frame's operations,
@@ -302,6 +328,21 @@ pub struct KindTotals {
     pub pairs: u64,
     pub max_operations: u64,
     pub accuracy: Accuracy,
+    /// Exact pairs of triangles edge de-duplication removed.
+    pub removed_by_dedup: u64,
+}
+
+impl KindTotals {
+    /// Recall over the exact pairs whose character triangles are kept.
+    pub fn recall_over_kept_triangles(&self) -> f64 {
+        let a = self.accuracy;
+        let kept = (a.tp + a.fn_).saturating_sub(self.removed_by_dedup);
+        if kept == 0 {
+            1.0
+        } else {
+            a.tp as f64 / kept as f64
+        }
+    }
 }
 
 /// A [`Summary`] gathered frame by frame, so a long run need not keep its
@@ -324,6 +365,8 @@ pub struct SummaryBuilder {
     vs_parry: DisagreementCounts,
     parry_vs_exact: DisagreementCounts,
     max_false_positive_distance: f64,
+    /// Reference pairs of character triangles de-duplication removed.
+    removed_by_dedup: u64,
     /// Per pair kind (world frames).
     pub by_kind: ByKind<KindTotals>,
 }
@@ -346,6 +389,7 @@ impl SummaryBuilder {
             vs_parry: DisagreementCounts::default(),
             parry_vs_exact: DisagreementCounts::default(),
             max_false_positive_distance: 0.0,
+            removed_by_dedup: 0,
             by_kind: ByKind::default(),
         }
     }
@@ -374,6 +418,11 @@ impl SummaryBuilder {
                     self.max_false_positive_distance =
                         self.max_false_positive_distance.max(fp.distance);
                 }
+                self.removed_by_dedup += t
+                    .false_negatives
+                    .iter()
+                    .filter(|f| f.cause == MissCause::Dedup)
+                    .count() as u64;
             }
             None => self.all_truth = false,
         }
@@ -388,6 +437,9 @@ impl SummaryBuilder {
                     k.accuracy.tp += a.tp;
                     k.accuracy.fp += a.fp;
                     k.accuracy.fn_ += a.fn_;
+                }
+                if let Some(d) = &w.removed_by_dedup_by_kind {
+                    k.removed_by_dedup += d.get(kind);
                 }
             }
         }
@@ -414,6 +466,16 @@ impl SummaryBuilder {
             vs_parry: truth.then_some(self.vs_parry),
             parry_vs_exact: truth.then_some(self.parry_vs_exact),
             max_false_positive_distance: truth.then_some(self.max_false_positive_distance),
+            reference_pairs_removed_by_dedup: truth.then_some(self.removed_by_dedup),
+            recall_over_kept_triangles: truth.then(|| {
+                let p = self.accuracy.pairs;
+                let kept = (p.tp + p.fn_).saturating_sub(self.removed_by_dedup);
+                if kept == 0 {
+                    1.0
+                } else {
+                    p.tp as f64 / kept as f64
+                }
+            }),
         }
     }
 }
@@ -463,6 +525,24 @@ impl SummaryTable<'_> {
                 "Pairs precision / recall",
                 col(&|m| pr(m.accuracy.unwrap_or_default().pairs)),
             ));
+            if s.iter()
+                .any(|m| m.reference_pairs_removed_by_dedup.unwrap_or(0) > 0)
+            {
+                rows.push((
+                    "Pairs lost to de-dup (§4)",
+                    col(&|m| {
+                        format!(
+                            "{} of {}",
+                            m.reference_pairs_removed_by_dedup.unwrap_or(0),
+                            m.reference_pairs().unwrap_or(0)
+                        )
+                    }),
+                ));
+                rows.push((
+                    "Pairs recall, kept tris",
+                    col(&|m| format!("{:.3}", m.recall_over_kept_triangles.unwrap_or(1.0))),
+                ));
+            }
             rows.push((
                 "Avatar tris prec. / recall",
                 col(&|m| pr(m.accuracy.unwrap_or_default().triangles)),
@@ -492,6 +572,22 @@ impl SummaryTable<'_> {
             ));
         }
         rows
+    }
+
+    /// A sentence under the table when de-duplication removed reference
+    /// pairs: the misses it explains are not the methods'.
+    pub fn dedup_note(&self) -> Option<String> {
+        let m = self
+            .0
+            .iter()
+            .find(|m| m.reference_pairs_removed_by_dedup.unwrap_or(0) > 0)?;
+        let removed = m.reference_pairs_removed_by_dedup.unwrap_or(0);
+        Some(format!(
+            "{removed} of {} reference pairs involve character triangles removed by edge \
+             de-duplication (paper §4; `--no-dedup` keeps them): no method reports them, and \
+             \"Pairs recall, kept tris\" leaves them out.",
+            m.reference_pairs().unwrap_or(0)
+        ))
     }
 
     /// The same table in Markdown.
@@ -541,6 +637,92 @@ impl fmt::Display for SummaryTable<'_> {
             }
             writeln!(f)?;
         }
+        if let Some(note) = self.dedup_note() {
+            writeln!(f, "{note}")?;
+        }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::truth::FalseNegative;
+
+    /// A frame of six reference pairs: three found, three of triangles
+    /// de-duplication removed, and one more missed for another cause.
+    fn frame(k: usize, other_miss: bool) -> FrameRecord {
+        let found = [(1, 9), (2, 9), (3, 9)];
+        let mut reference: Vec<(u32, u32)> = found.to_vec();
+        reference.extend([(10, 9), (11, 9), (12, 9)]);
+        let mut false_negatives: Vec<FalseNegative> = [10, 11, 12]
+            .map(|avatar| FalseNegative {
+                avatar,
+                environment: 9,
+                cause: MissCause::Dedup,
+            })
+            .to_vec();
+        if other_miss {
+            reference.push((13, 9));
+            false_negatives.push(FalseNegative {
+                avatar: 13,
+                environment: 9,
+                cause: MissCause::Other,
+            });
+        }
+        let mut r = FrameRecord::new(k, &FrameCounters::default(), &found);
+        r.truth = Some(TruthRecord {
+            reference_pairs: reference.len(),
+            accuracy: FrameAccuracy::compare(&found, &reference),
+            false_positives: Vec::new(),
+            false_negatives,
+            vs_parry: DisagreementCounts::default(),
+            parry_vs_exact: DisagreementCounts::default(),
+            parry_extra_max_distance: 0.0,
+        });
+        r
+    }
+
+    /// The pairs de-duplication removed are counted apart, recall over the
+    /// kept triangles leaves them out (and only them), and the table says so.
+    #[test]
+    fn dedup_losses_are_separated_from_misses() {
+        let mut b = SummaryBuilder::new(Method::UndividedPrunedTriTri, 0);
+        b.add(&frame(0, false));
+        let s = b.summary();
+        assert_eq!(s.reference_pairs(), Some(6));
+        assert_eq!(s.reference_pairs_removed_by_dedup, Some(3));
+        assert_eq!(s.accuracy.unwrap().pairs.recall(), 0.5);
+        assert_eq!(s.recall_over_kept_triangles, Some(1.0));
+        let table = SummaryTable(std::slice::from_ref(&s)).to_string();
+        assert!(table.contains("3 of 6"), "{table}");
+        assert!(
+            table.contains("3 of 6 reference pairs involve character triangles removed"),
+            "{table}"
+        );
+
+        // A miss of another cause stays a miss over the kept triangles.
+        b.add(&frame(1, true));
+        let s = b.summary();
+        assert_eq!(s.reference_pairs_removed_by_dedup, Some(6));
+        assert_eq!(s.recall_over_kept_triangles, Some(6.0 / 7.0));
+        let json = serde_json::to_value(&s).unwrap();
+        assert_eq!(json["reference_pairs_removed_by_dedup"], 6);
+
+        // No de-duplication loss: no row, no note.
+        let mut clean = SummaryBuilder::new(Method::UndividedPrunedTriTri, 0);
+        let mut f = FrameRecord::new(0, &FrameCounters::default(), &[(1, 2)]);
+        f.truth = Some(TruthRecord {
+            reference_pairs: 1,
+            accuracy: FrameAccuracy::compare(&[(1, 2)], &[(1, 2)]),
+            false_positives: Vec::new(),
+            false_negatives: Vec::new(),
+            vs_parry: DisagreementCounts::default(),
+            parry_vs_exact: DisagreementCounts::default(),
+            parry_extra_max_distance: 0.0,
+        });
+        clean.add(&f);
+        let table = SummaryTable(&[clean.summary()]).to_string();
+        assert!(!table.contains("de-dup"), "{table}");
     }
 }

@@ -219,6 +219,34 @@ impl Truth {
         &self.room[c]
     }
 
+    /// Per kind, the exact pairs a character triangle of which `kept`
+    /// (character index, triangle) says edge de-duplication removed: no
+    /// method reports them (paper §4).
+    pub fn removed_by_dedup(&self, kept: impl Fn(usize, u32) -> bool) -> ByKind<u64> {
+        let e = &self.exact;
+        let count = |it: &mut dyn Iterator<Item = bool>| it.filter(|&k| !k).count() as u64;
+        ByKind {
+            environment: count(
+                &mut e
+                    .environment
+                    .iter()
+                    .map(|p| kept(p.character.index(), p.triangle)),
+            ),
+            objects: count(
+                &mut e
+                    .objects
+                    .iter()
+                    .map(|p| kept(p.character.index(), p.triangle)),
+            ),
+            characters: count(
+                &mut e
+                    .characters
+                    .iter()
+                    .map(|p| kept(p.a.index(), p.triangle_a) && kept(p.b.index(), p.triangle_b)),
+            ),
+        }
+    }
+
     /// parry's pairs against the truth, per kind.
     pub fn parry_score(&self) -> ByKind<Accuracy> {
         ByKind {

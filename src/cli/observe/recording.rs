@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use cornertree_workbench::record::blueprint::{ccd_blueprint, run_blueprint};
+use cornertree_workbench::record::footer::{FOOTER_MAX_BYTES, Footer, finish_file};
 use cornertree_workbench::record::layout;
 use cornertree_workbench::record::recorder::{character_paths, object_paths};
 use cornertree_workbench::record::target::RecordingTarget;
@@ -17,6 +18,8 @@ use super::{Observer, Seen};
 /// Every method's recorder (`None` where the target records nothing).
 pub struct Recordings {
     pub recorders: Vec<Option<Recorder>>,
+    /// Each recorder's file, for file targets.
+    paths: Vec<Option<PathBuf>>,
     /// Files started, deleted if the run fails.
     pub created: Vec<PathBuf>,
 }
@@ -48,6 +51,7 @@ impl Recordings {
         let methods = session.worlds().len();
         let mut out = Self {
             recorders: Vec::new(),
+            paths: Vec::new(),
             created: Vec::new(),
         };
         for m in 0..methods {
@@ -68,8 +72,10 @@ impl Recordings {
                 .inspect_err(|_| discard(&out.created))?;
             let Some(o) = opened else {
                 out.recorders.push(None);
+                out.paths.push(None);
                 continue;
             };
+            out.paths.push(o.path.clone());
             if let Some(path) = &o.path {
                 out.created.push(path.clone());
             }
@@ -89,14 +95,38 @@ impl Recordings {
         self.recorders[m].as_ref().map(Recorder::stream)
     }
 
-    /// Ends every recording with `note`; returns the frames each logged.
+    /// Ends every recording with `note`, and gives each file rerun's footer
+    /// (`record::footer`); returns the frames each logged.
     pub fn finish(self, session: &Session, note: &str) -> anyhow::Result<Vec<usize>> {
         let mut logged = Vec::new();
-        for (rec, w) in self.recorders.into_iter().zip(session.worlds()) {
+        for ((rec, path), w) in self
+            .recorders
+            .into_iter()
+            .zip(self.paths)
+            .zip(session.worlds())
+        {
             if let Some(rec) = rec {
                 rec.finish(note)
                     .with_context(|| format!("finishing the recording of {}", w.method()))?;
                 logged.push(rec.frames_logged());
+                // The stream closed (its file sink joined) before the file
+                // is read back.
+                rec.close();
+                if let Some(path) = path {
+                    match finish_file(&path, FOOTER_MAX_BYTES) {
+                        Ok(Footer::Added(_)) => {}
+                        Ok(Footer::TooLarge(size)) => eprintln!(
+                            "note: {} ({:.0} MB) is left without rerun's footer (added up to {} MiB, \
+                             to keep memory bounded); `rerun rrd optimize {0} -o OUT.rrd` adds one",
+                            path.display(),
+                            size as f64 / 1e6,
+                            FOOTER_MAX_BYTES >> 20
+                        ),
+                        Err(e) => {
+                            eprintln!("warning: {e}; the recording opens without rerun's footer")
+                        }
+                    }
+                }
             }
         }
         Ok(logged)

@@ -13,6 +13,8 @@ use cornertree_workbench::truth::{Accuracy, MethodContext, MethodTruth, Truth};
 #[derive(Clone, Debug, Default)]
 pub struct MethodScore {
     pub by_kind: ByKind<Accuracy>,
+    /// Per kind, the exact pairs of triangles de-duplication removed.
+    pub removed_by_dedup: ByKind<u64>,
     /// Per character, its pairs with the room in detail.
     pub details: Vec<MethodTruth>,
 }
@@ -72,6 +74,10 @@ impl Reference {
         let plane_sphere = world.method().big_leaf_test() == LeafTest::PlaneSphere;
         let score = &mut self.scores[m];
         score.by_kind = self.truth.score(contacts);
+        let kept = &self.kept[m];
+        score.removed_by_dedup = self
+            .truth
+            .removed_by_dedup(|c, t| kept[c].get(t as usize).copied().unwrap_or(true));
         score.details.clear();
         for c in 0..session.scene.characters.len() {
             let ctx = MethodContext {

@@ -33,6 +33,7 @@ impl Report {
                 hierarchy_bytes: w.hierarchy_bytes(),
                 frames: Vec::new(),
                 continuous: None,
+                summary: None,
             })
             .collect();
         let summing = runs
@@ -57,6 +58,7 @@ impl Report {
             let mut w = WorldFrameRecord::new(o);
             if let Some((reference, s)) = score {
                 w.accuracy_by_kind = Some(s.by_kind);
+                w.removed_by_dedup_by_kind = Some(s.removed_by_dedup);
                 w.parry_accuracy_by_kind = Some(reference.truth.parry_score());
             }
             r.world = Some(w);
