@@ -110,7 +110,7 @@ fn check(
         let rays = random_rays(lo, hi, rays_per_pose(), &mut rng);
         let ours: Vec<_> = rays
             .iter()
-            .map(|r| world.cast_ray(r, QueryTargets::All, &mut scratch))
+            .map(|r| world.cast_ray(r, QueryTargets::All, &mut scratch).unwrap())
             .collect();
         let mesh = [Mesh {
             positions: &pose.positions,

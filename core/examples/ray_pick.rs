@@ -94,7 +94,9 @@ fn run(vertices: usize, frames: usize, check_hits: bool) -> Seen {
                 10.0,
             )
             .expect("a valid ray");
-            let hit = world.cast_ray(&ray, QueryTargets::Character(walker), &mut scratch);
+            let hit = world
+                .cast_ray(&ray, QueryTargets::Character(walker), &mut scratch)
+                .expect("the walker is in this world");
             seen.refits += scratch.counters().refits;
             seen.skinned += scratch.counters().skinned_vertices;
             hits.push((ray, hit));
@@ -103,6 +105,7 @@ fn run(vertices: usize, frames: usize, check_hits: bool) -> Seen {
         let down = Ray::new(Point::new(0.0, 3.0, 0.3), Vector::new(0.0, -1.0, 0.0), 10.0).unwrap();
         let below = world
             .cast_ray(&down, QueryTargets::All, &mut scratch)
+            .expect("valid targets")
             .expect("the floor is there");
         seen.microseconds_per_frame += t0.elapsed().as_secs_f64() * 1e6 / frames as f64;
         assert!(below.distance <= 3.0 + 1e-4);

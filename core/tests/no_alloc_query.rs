@@ -86,8 +86,13 @@ fn queries_allocate_nothing_once_the_scratch_is_sized() {
             let before = ALLOCATIONS.load(Ordering::Relaxed);
             let mut hits = 0;
             for r in &rays {
-                hits += world.cast_ray(r, QueryTargets::All, scratch).is_some() as usize;
-                world.cast_ray_all(r, QueryTargets::Characters, scratch, &mut all);
+                hits += world
+                    .cast_ray(r, QueryTargets::All, scratch)
+                    .unwrap()
+                    .is_some() as usize;
+                world
+                    .cast_ray_all(r, QueryTargets::Characters, scratch, &mut all)
+                    .unwrap();
                 let p = r.origin + r.direction * 2.9;
                 world
                     .overlap_sphere(
@@ -98,7 +103,9 @@ fn queries_allocate_nothing_once_the_scratch_is_sized() {
                     )
                     .unwrap();
                 let cap = Capsule::new(p, p + Vector::new(0.0, 0.2, 0.0), 0.03).unwrap();
-                world.overlap_capsule(&cap, QueryTargets::All, scratch, &mut touched);
+                world
+                    .overlap_capsule(&cap, QueryTargets::All, scratch, &mut touched)
+                    .unwrap();
             }
             (ALLOCATIONS.load(Ordering::Relaxed) - before, hits)
         };

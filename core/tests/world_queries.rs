@@ -221,7 +221,10 @@ fn rays_balls_and_capsules_equal_brute_force() {
                     .collect();
                 expected
                     .sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)).then(x.2.cmp(&y.2)));
-                let got = scene.world.cast_ray(&ray, QueryTargets::All, &mut scratch);
+                let got = scene
+                    .world
+                    .cast_ray(&ray, QueryTargets::All, &mut scratch)
+                    .unwrap();
                 match (got, expected.first()) {
                     (None, None) => {}
                     (Some(g), Some(e)) => {
@@ -255,7 +258,8 @@ fn rays_balls_and_capsules_equal_brute_force() {
                 }
                 scene
                     .world
-                    .cast_ray_all(&ray, QueryTargets::All, &mut scratch, &mut all);
+                    .cast_ray_all(&ray, QueryTargets::All, &mut scratch, &mut all)
+                    .unwrap();
                 let mut got_all: Vec<(BodyRef, u32)> =
                     all.iter().map(|h| (h.body, h.triangle)).collect();
                 let mut exp_all: Vec<(BodyRef, u32)> =
@@ -298,7 +302,8 @@ fn rays_balls_and_capsules_equal_brute_force() {
                 let cap = Capsule::new(c, c + d, r * 0.5).unwrap();
                 scene
                     .world
-                    .overlap_capsule(&cap, QueryTargets::All, &mut scratch, &mut touched);
+                    .overlap_capsule(&cap, QueryTargets::All, &mut scratch, &mut touched)
+                    .unwrap();
                 let mut exp: Vec<Touched> = tris
                     .iter()
                     .filter(|(_, _, tri)| cap.overlaps_triangle(tri))
@@ -334,6 +339,7 @@ fn a_ray_missing_every_root_costs_one_test_per_body() {
         scene
             .world
             .cast_ray(&up, QueryTargets::All, &mut scratch)
+            .unwrap()
             .is_none()
     );
     let c = *scratch.counters();
@@ -347,6 +353,7 @@ fn a_ray_missing_every_root_costs_one_test_per_body() {
         scene
             .world
             .cast_ray(&up, QueryTargets::Characters, &mut scratch)
+            .unwrap()
             .is_none()
     );
     assert_eq!(scratch.counters().root_tests, 3);
@@ -357,8 +364,60 @@ fn a_ray_missing_every_root_costs_one_test_per_body() {
     );
     // One character.
     let one = QueryTargets::Character(CharacterHandle(1));
-    assert!(scene.world.cast_ray(&up, one, &mut scratch).is_none());
+    assert!(
+        scene
+            .world
+            .cast_ray(&up, one, &mut scratch)
+            .unwrap()
+            .is_none()
+    );
     assert_eq!(scratch.counters().root_tests, 1);
+    // Handles this world did not give are refused, naming them.
+    let e = scene
+        .world
+        .cast_ray(
+            &up,
+            QueryTargets::Character(CharacterHandle(3)),
+            &mut scratch,
+        )
+        .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "character 3: no such character in this world"
+    );
+    let mut touched = Vec::new();
+    let e = scene
+        .world
+        .overlap_sphere(
+            &Sphere::new(Point::origin(), 1.0),
+            QueryTargets::Room(RoomHandle(1)),
+            &mut scratch,
+            &mut touched,
+        )
+        .unwrap_err();
+    assert_eq!(e.to_string(), "room 1: no such room in this world");
+    let e = scene
+        .world
+        .overlap_sphere(
+            &Sphere::new(Point::origin(), -1.0),
+            QueryTargets::All,
+            &mut scratch,
+            &mut touched,
+        )
+        .unwrap_err();
+    assert_eq!(e.to_string(), "query: the ball's radius is negative");
+    let cap = Capsule::new(Point::origin(), Point::origin(), 0.1).unwrap();
+    assert!(
+        scene
+            .world
+            .overlap_capsule(
+                &cap,
+                QueryTargets::Object(ObjectHandle(2)),
+                &mut scratch,
+                &mut touched
+            )
+            .is_err()
+    );
 }
 
 #[test]
@@ -376,14 +435,16 @@ fn queries_and_steps_share_a_frame_and_change_no_contact() {
             for r in &rays {
                 queried
                     .world
-                    .cast_ray(r, QueryTargets::Characters, &mut scratch);
+                    .cast_ray(r, QueryTargets::Characters, &mut scratch)
+                    .unwrap();
                 refits_by_queries += scratch.counters().refits;
             }
             // The same rays again: everything they reach is refit already.
             for r in &rays {
                 queried
                     .world
-                    .cast_ray(r, QueryTargets::Characters, &mut scratch);
+                    .cast_ray(r, QueryTargets::Characters, &mut scratch)
+                    .unwrap();
                 assert_eq!(
                     scratch.counters().refits,
                     0,
@@ -425,7 +486,8 @@ fn queries_and_steps_share_a_frame_and_change_no_contact() {
             for r in &rays {
                 queried
                     .world
-                    .cast_ray(r, QueryTargets::Characters, &mut scratch);
+                    .cast_ray(r, QueryTargets::Characters, &mut scratch)
+                    .unwrap();
                 assert_eq!(scratch.counters().refits, 0);
             }
         }

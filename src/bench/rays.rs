@@ -303,7 +303,7 @@ pub fn measure_rays(
         for r in &rays {
             session
                 .world(0)
-                .cast_ray(r, QueryTargets::Characters, &mut scratch);
+                .cast_ray(r, QueryTargets::Characters, &mut scratch)?;
         }
     }
     for k in 0..frames {
@@ -327,7 +327,7 @@ pub fn measure_rays(
         session.hand_poses(0);
         let world = session.world(0);
         for r in &rays {
-            hits.push(world.cast_ray(r, QueryTargets::Characters, &mut scratch));
+            hits.push(world.cast_ray(r, QueryTargets::Characters, &mut scratch)?);
             frame_counters.push(*scratch.counters());
         }
         ours_ms.push(t0.elapsed().as_secs_f64() * 1e3);

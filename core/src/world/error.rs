@@ -90,6 +90,12 @@ pub enum WorldError {
         /// Triangles the set keeps or drops.
         got: usize,
     },
+    /// A room handle this world did not give.
+    #[error("{0}: no such room in this world")]
+    UnknownRoom(super::handles::RoomHandle),
+    /// A query shape that is not a shape (not finite, negative radius).
+    #[error("query: {0}")]
+    Shape(#[from] crate::geometry::query_shapes::ShapeError),
     /// Continuous detection asked of a world that has not enabled it.
     #[error("continuous detection is off: call enable_continuous first")]
     ContinuousOff,

@@ -25,6 +25,7 @@ use crate::sphere_tree::{NodeId, SphereTree};
 
 use super::bodies::{CharacterBody, RigidBody};
 use super::collision_world::CollisionWorld;
+use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 use super::step::side;
 
@@ -214,16 +215,20 @@ impl CollisionWorld {
     /// let room = world.add_room(Arc::new(floor)).unwrap();
     /// let down = Ray::new(Point::new(0.0, 1.5, 0.0), Vector::new(0.0, -1.0, 0.0), f32::INFINITY).unwrap();
     /// let mut scratch = QueryScratch::new();
-    /// let hit = world.cast_ray(&down, QueryTargets::All, &mut scratch).unwrap();
+    /// let hit = world.cast_ray(&down, QueryTargets::All, &mut scratch).unwrap().unwrap();
     /// assert_eq!((hit.body, hit.triangle, hit.distance), (BodyRef::Room(room), 0, 1.5));
     /// assert_eq!(scratch.counters().root_tests, 1);
+    /// // A handle this world did not give is refused.
+    /// let nobody = QueryTargets::Character(cornertree::world::CharacterHandle(7));
+    /// assert!(world.cast_ray(&down, nobody, &mut scratch).is_err());
     /// ```
     pub fn cast_ray(
         &self,
         ray: &Ray,
         targets: QueryTargets,
         scratch: &mut QueryScratch,
-    ) -> Option<RayHit> {
+    ) -> Result<Option<RayHit>, WorldError> {
+        self.check_targets(targets)?;
         struct First {
             ray: Ray,
             best: Option<RayHit>,
@@ -248,7 +253,7 @@ impl CollisionWorld {
             best: None,
         };
         self.query(QueryShape::Ray(*ray), targets, scratch, &mut first);
-        first.best
+        Ok(first.best)
     }
 
     /// Every triangle `ray` meets among `targets`, nearest first, into `out`
@@ -259,7 +264,8 @@ impl CollisionWorld {
         targets: QueryTargets,
         scratch: &mut QueryScratch,
         out: &mut Vec<RayHit>,
-    ) {
+    ) -> Result<(), WorldError> {
+        self.check_targets(targets)?;
         struct All<'a> {
             ray: Ray,
             out: &'a mut Vec<RayHit>,
@@ -283,6 +289,7 @@ impl CollisionWorld {
                 .then(x.body.cmp(&y.body))
                 .then(x.triangle.cmp(&y.triangle))
         });
+        Ok(())
     }
 
     /// Every triangle the closed ball `ball` touches among `targets`, into
@@ -293,13 +300,14 @@ impl CollisionWorld {
         targets: QueryTargets,
         scratch: &mut QueryScratch,
         out: &mut Vec<Touched>,
-    ) -> Result<(), ShapeError> {
+    ) -> Result<(), WorldError> {
         if !ball.center.iter().all(|x| x.is_finite()) || !ball.radius.is_finite() {
-            return Err(ShapeError::NonFinite("the ball"));
+            return Err(ShapeError::NonFinite("the ball").into());
         }
         if ball.radius < 0.0 {
-            return Err(ShapeError::Negative("the ball's radius"));
+            return Err(ShapeError::Negative("the ball's radius").into());
         }
+        self.check_targets(targets)?;
         self.overlap(QueryShape::Ball(*ball), targets, scratch, out);
         Ok(())
     }
@@ -312,8 +320,26 @@ impl CollisionWorld {
         targets: QueryTargets,
         scratch: &mut QueryScratch,
         out: &mut Vec<Touched>,
-    ) {
+    ) -> Result<(), WorldError> {
+        self.check_targets(targets)?;
         self.overlap(QueryShape::Capsule(*capsule), targets, scratch, out);
+        Ok(())
+    }
+
+    /// Refuses a handle this world did not give.
+    fn check_targets(&self, targets: QueryTargets) -> Result<(), WorldError> {
+        match targets {
+            QueryTargets::Character(h) if h.index() >= self.characters.len() => {
+                Err(WorldError::UnknownCharacter(h))
+            }
+            QueryTargets::Object(h) if h.index() >= self.objects.len() => {
+                Err(WorldError::UnknownObject(h))
+            }
+            QueryTargets::Room(h) if h.index() >= self.rooms.len() => {
+                Err(WorldError::UnknownRoom(h))
+            }
+            _ => Ok(()),
+        }
     }
 
     fn overlap(
