@@ -7,12 +7,15 @@
 use std::sync::Arc;
 use std::sync::atomic::Ordering;
 
+#[path = "common/box_mesh.rs"]
+mod box_mesh;
 #[path = "../../tests/common/counting_alloc.rs"]
 mod counting_alloc;
 /// The workbench's generated humanoid, for a realistic skinned character.
 #[path = "../../src/humanoid.rs"]
 #[allow(dead_code)]
 mod humanoid;
+use box_mesh::box_mesh;
 
 use cornertree::character::{Character, Trs};
 use cornertree::geometry::Point;
@@ -35,29 +38,6 @@ fn room() -> TriMesh {
         Point::new(-3.0, 2.5, -0.3),
     ];
     TriMesh::new(p, vec![[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7]]).unwrap()
-}
-
-/// A box 40 cm on a side in its own frame, around its origin.
-fn box_mesh() -> TriMesh {
-    let p: Vec<Point> = (0..8)
-        .map(|i| {
-            let c = |bit: usize| if i & bit == 0 { -0.2 } else { 0.2 };
-            Point::new(c(1), c(2), c(4))
-        })
-        .collect();
-    let mut t = Vec::new();
-    for [a, b, c, d] in [
-        [0, 1, 3, 2],
-        [4, 6, 7, 5],
-        [0, 4, 5, 1],
-        [2, 3, 7, 6],
-        [0, 2, 6, 4],
-        [1, 5, 7, 3],
-    ] {
-        t.push([a, b, c]);
-        t.push([a, c, d]);
-    }
-    TriMesh::new(p, t).unwrap()
 }
 
 /// Three walkers 35 cm apart, and a box crossing them.

@@ -7,10 +7,13 @@
 
 use std::sync::Arc;
 
+#[path = "common/box_mesh.rs"]
+mod box_mesh;
 /// The workbench's generated humanoid, for a realistic skinned character.
 #[path = "../../src/humanoid.rs"]
 #[allow(dead_code)]
 mod humanoid;
+use box_mesh::box_mesh;
 
 use cornertree::character::{Character, PoseBuffers, SkinningModel};
 use cornertree::geometry::query_shapes::{Capsule, Ray};
@@ -46,29 +49,6 @@ fn room() -> TriMesh {
             Point::new(x + 0.05, 0.9, -0.45),
         ]);
         t.push([base, base + 1, base + 2]);
-    }
-    TriMesh::new(p, t).unwrap()
-}
-
-/// A box 40 cm on a side around its origin.
-fn box_mesh() -> TriMesh {
-    let p: Vec<Point> = (0..8)
-        .map(|i| {
-            let c = |bit: usize| if i & bit == 0 { -0.2 } else { 0.2 };
-            Point::new(c(1), c(2), c(4))
-        })
-        .collect();
-    let mut t = Vec::new();
-    for [a, b, c, d] in [
-        [0, 1, 3, 2],
-        [4, 6, 7, 5],
-        [0, 4, 5, 1],
-        [2, 3, 7, 6],
-        [0, 2, 6, 4],
-        [1, 5, 7, 3],
-    ] {
-        t.push([a, b, c]);
-        t.push([a, c, d]);
     }
     TriMesh::new(p, t).unwrap()
 }

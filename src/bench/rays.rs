@@ -391,7 +391,7 @@ pub fn measure_rays(
             report.rays += 1;
             report.hits += ours.is_some() as u64;
             let c = &frame_counters[i];
-            add(&mut counters, c);
+            counters.add(c);
             if c.bodies_entered == 0 {
                 report.rays_missing_every_root += 1;
                 report.root_tests_of_those += c.root_tests;
@@ -460,15 +460,6 @@ pub fn measure_rays(
     report.speedup_vs_skin_all_test_every_triangle = s.mean / o.mean.max(1e-9);
     report.counters = counters;
     Ok(report)
-}
-
-fn add(sum: &mut QueryCounters, c: &QueryCounters) {
-    sum.root_tests += c.root_tests;
-    sum.bodies_entered += c.bodies_entered;
-    sum.sphere_tests += c.sphere_tests;
-    sum.triangle_tests += c.triangle_tests;
-    sum.refits += c.refits;
-    sum.skinned_vertices += c.skinned_vertices;
 }
 
 /// Whether `r` enters the box `[lo, hi]` (slabs, in `f64`, closed).

@@ -116,8 +116,15 @@ pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: us
         ])
         .into(),
     ];
-    Blueprint::new(Horizontal::new(views).with_column_shares([3.0, 2.0]))
-        .with_auto_views(false)
+    frames_paused(Blueprint::new(
+        Horizontal::new(views).with_column_shares([3.0, 2.0]),
+    ))
+}
+
+/// Only the views: the blueprint and selection panels collapsed, the time
+/// panel collapsed on the frame timeline, paused at the start.
+fn frames_paused(b: Blueprint) -> Blueprint {
+    b.with_auto_views(false)
         .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
         .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
         .with_time_panel(
@@ -232,7 +239,7 @@ pub fn rays_blueprint(characters: &[String], from_level: usize, levels: usize) -
         .with_origin("/")
         .with_contents(refit);
     let stats = TimeSeriesView::new("rays that hit a character").with_origin("/stats");
-    Blueprint::new(
+    frames_paused(Blueprint::new(
         Horizontal::new([
             rays.into(),
             Vertical::new([spheres.into(), stats.into()])
@@ -240,14 +247,5 @@ pub fn rays_blueprint(characters: &[String], from_level: usize, levels: usize) -
                 .into(),
         ])
         .with_column_shares([3.0, 2.0]),
-    )
-    .with_auto_views(false)
-    .with_blueprint_panel(BlueprintPanel::new().with_state(PanelState::Collapsed))
-    .with_selection_panel(SelectionPanel::new().with_state(PanelState::Collapsed))
-    .with_time_panel(
-        TimePanel::new()
-            .with_state(PanelState::Collapsed)
-            .with_timeline(layout::FRAME)
-            .with_play_state(PlayState::Paused),
-    )
+    ))
 }

@@ -114,7 +114,7 @@ impl Ray {
 
     /// The part `[t0, t1]` of the ray (clipped to `[0, max_distance]`) that
     /// may lie in `s`, or `None` when the ray surely misses it. Conservative:
-    /// the sphere is widened by [`SPHERE_SLACK`] relatively.
+    /// the sphere is widened by a millionth relatively.
     #[inline]
     pub fn sphere_interval(&self, s: &Sphere) -> Option<(f64, f64)> {
         let o = self.origin.cast::<f64>();

@@ -49,15 +49,7 @@ impl CharacterSide<'_> {
     /// refitting are counted.
     #[inline]
     pub(crate) fn hierarchy<const TIMED: bool>(&mut self) -> TimedRefit<'_, TIMED> {
-        TimedRefit {
-            refitter: Refitter {
-                tree: self.tree,
-                skin: self.pose.skin,
-                state: self.refit,
-            },
-            base: *self.pose.base,
-            ticks: 0,
-        }
+        TimedRefit::new(self.tree, self.pose, self.refit)
     }
 
     /// Skins the corners of triangle `t` unless done this frame.
@@ -128,6 +120,26 @@ pub(crate) struct TimedRefit<'a, const TIMED: bool> {
     pub(crate) refitter: Refitter<'a>,
     pub(crate) base: Matrix4<f32>,
     pub(crate) ticks: u64,
+}
+
+impl<'a, const TIMED: bool> TimedRefit<'a, TIMED> {
+    /// `tree` refit into `refit` for `pose` (a borrow of a
+    /// [`CharacterSide`]'s refit state alone, its skinning left free).
+    pub(crate) fn new(
+        tree: &'a CharacterTree,
+        pose: SkinPose<'a>,
+        refit: &'a mut RefitState,
+    ) -> Self {
+        TimedRefit {
+            refitter: Refitter {
+                tree,
+                skin: pose.skin,
+                state: refit,
+            },
+            base: *pose.base,
+            ticks: 0,
+        }
+    }
 }
 
 impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {

@@ -14,7 +14,6 @@ use crate::geometry::query_shapes::{
 };
 use crate::geometry::{Point, Sphere, Triangle};
 use crate::mesh::{TriMesh, TriangleId};
-use crate::sphere_tree::refit::Refitter;
 use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
 use crate::sphere_tree::{Hierarchy, Node, NodeId, SphereTree, Workspace, traverse_guarded};
 
@@ -148,15 +147,7 @@ impl QueryTarget for CharacterSide<'_> {
             skin,
         } = self;
         let mut h = LeavesUnrefit {
-            inner: TimedRefit::<false> {
-                refitter: Refitter {
-                    tree,
-                    skin: pose.skin,
-                    state: refit,
-                },
-                base: *pose.base,
-                ticks: 0,
-            },
+            inner: TimedRefit::<false>::new(tree, *pose, refit),
             leaves: 0,
         };
         let indices = character.mesh.indices();

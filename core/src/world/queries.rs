@@ -139,6 +139,16 @@ pub struct QueryCounters {
 }
 
 impl QueryCounters {
+    /// Adds `o`'s counts (a sum over queries).
+    pub fn add(&mut self, o: &QueryCounters) {
+        self.root_tests += o.root_tests;
+        self.bodies_entered += o.bodies_entered;
+        self.sphere_tests += o.sphere_tests;
+        self.triangle_tests += o.triangle_tests;
+        self.refits += o.refits;
+        self.skinned_vertices += o.skinned_vertices;
+    }
+
     fn add_pass(&mut self, c: &FrameCounters) {
         self.bodies_entered += 1;
         self.sphere_tests += c.sphere_sphere;
