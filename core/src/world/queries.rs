@@ -242,13 +242,16 @@ impl CollisionWorld {
         struct First {
             ray: Ray,
             best: Option<RayHit>,
+            /// The best hit's distance before rounding to `f32`.
+            best_distance: f64,
         }
         impl Gather for First {
             fn take(&mut self, body: BodyRef, hits: &[ShapeHit]) {
                 if let Some(h) = hits.first()
-                    && self.best.is_none_or(|b| (h.distance as Real) < b.distance)
+                    && h.distance < self.best_distance
                 {
                     self.best = Some(ray_hit(&self.ray, body, h));
+                    self.best_distance = h.distance;
                 }
             }
             fn reach(&self) -> Real {
@@ -261,6 +264,7 @@ impl CollisionWorld {
         let mut first = First {
             ray: *ray,
             best: None,
+            best_distance: f64::INFINITY,
         };
         self.query(QueryShape::Ray(*ray), targets, scratch, &mut first);
         Ok(first.best)
@@ -382,10 +386,11 @@ impl CollisionWorld {
         gather: &mut impl Gather,
     ) {
         scratch.counters = QueryCounters::default();
-        // A ray looking for its first hit stops where the best hit so far is.
+        // A ray looking for its first hit stops where the best hit so far
+        // is (rounded up: a nearer hit within its `f32` rounding is kept).
         let clipped = |shape: QueryShape, reach: Real| match shape {
             QueryShape::Ray(mut r) => {
-                r.max_distance = r.max_distance.min(reach);
+                r.max_distance = r.max_distance.min(reach.next_up());
                 QueryShape::Ray(r)
             }
             other => other,
