@@ -351,17 +351,39 @@ fn accessor_past_its_buffer_is_an_error() {
 }
 
 #[test]
-fn required_draco_is_refused() {
-    let scratch = Scratch::new("draco");
-    let path = write_gltf(&scratch, "draco.gltf", &Spec::default());
-    let json = std::fs::read_to_string(&path).unwrap().replacen(
+fn required_unknown_extensions_are_refused_and_compression_ones_are_read() {
+    let scratch = Scratch::new("extensions");
+    let path = write_gltf(&scratch, "unknown.gltf", &Spec::default());
+    let plain = std::fs::read_to_string(&path).unwrap();
+    let json = plain.replacen(
         r#""asset""#,
-        r#""extensionsUsed": ["KHR_draco_mesh_compression"], "extensionsRequired": ["KHR_draco_mesh_compression"], "asset""#,
+        r#""extensionsUsed": ["EXT_unknown_compression"], "extensionsRequired": ["EXT_unknown_compression", "KHR_draco_mesh_compression"], "asset""#,
         1,
     );
     std::fs::write(&path, json).unwrap();
-    let error = expect_error(&path, &["KHR_draco_mesh_compression", "unsupported"]);
-    assert!(matches!(error, LoadError::UnsupportedExtension { .. }));
+    let error = expect_error(&path, &["EXT_unknown_compression", "unsupported"]);
+    assert!(
+        matches!(error, LoadError::UnsupportedExtension { ref extensions, .. } if extensions == &["EXT_unknown_compression"])
+    );
+    // The three compression extensions, required, are read (here the file
+    // has no compressed data: it loads as it is).
+    let json = plain.replacen(
+        r#""asset""#,
+        r#""extensionsUsed": ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"], "extensionsRequired": ["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"], "asset""#,
+        1,
+    );
+    std::fs::write(&path, json).unwrap();
+    let (_, report) = load_static_mesh(&path).unwrap();
+    assert_eq!(
+        report
+            .notes
+            .iter()
+            .filter(|n| n.ends_with("is used and read"))
+            .count(),
+        3,
+        "{:?}",
+        report.notes
+    );
 }
 
 #[test]

@@ -40,11 +40,12 @@ use seeds::Kind;
 static GLOBAL: alloc::Tracking = alloc::Tracking;
 
 /// Seed weights of long runs: small GLB, small `.gltf`, CesiumMan, BrainStem
-/// (the large one takes 20 times longer, so it is picked least).
-const WEIGHTS: [u32; 4] = [4, 3, 3, 1];
+/// (the large one takes 20 times longer, so it is picked least), then the
+/// compressed CesiumMan: Draco, meshopt, gltfpack, quantized.
+const WEIGHTS: [u32; 8] = [4, 3, 3, 1, 2, 2, 2, 1];
 
 /// Seed weights and cases per loader in `cargo test` (about 30 s).
-const SHORT_WEIGHTS: [u32; 4] = [5, 4, 4, 1];
+const SHORT_WEIGHTS: [u32; 8] = [5, 4, 4, 1, 2, 2, 2, 1];
 const SHORT_CASES: u32 = 1_000;
 
 #[derive(Default)]
@@ -96,7 +97,7 @@ fn scratch(loader: Loader, purpose: &str) -> std::path::PathBuf {
 
 /// Runs `cases` mutated inputs through `loader`; panics with the failing
 /// input (also saved under `tests/fuzz-regressions/`) if one fails.
-fn fuzz(loader: Loader, cases: u32, rng_seed: u64, weights: &[u32; 4]) {
+fn fuzz(loader: Loader, cases: u32, rng_seed: u64, weights: &[u32; 8]) {
     check::start_watchdog();
     let seeds = seeds::all();
     let dir = scratch(loader, "fuzz");

@@ -58,6 +58,11 @@ const KEYS: &[&str] = &[
     "target",
     "primitives",
     "attributes",
+    // The compression extensions' own members.
+    "filter",
+    "fallback",
+    "KHR_draco_mesh_compression",
+    "EXT_meshopt_compression",
 ];
 
 /// Replacement numbers: boundaries, component types, absurd sizes, values
@@ -120,6 +125,14 @@ const STRINGS: &[&str] = &[
     "\"data:,\"",
     "\"3.0\"",
     "\"2.1\"",
+    "\"ATTRIBUTES\"",
+    "\"TRIANGLES\"",
+    "\"INDICES\"",
+    "\"NONE\"",
+    "\"OCTAHEDRAL\"",
+    "\"QUATERNION\"",
+    "\"EXPONENTIAL\"",
+    "\"COLOR\"",
 ];
 
 /// Replacements of the wrong type, and non-finite spellings JSON does not allow.
@@ -137,6 +150,8 @@ const OTHERS: &[&str] = &[
     "[0, 0, 0, 0]",
     "[1e38, 0, 0, 1]",
     "[\"KHR_draco_mesh_compression\"]",
+    "[\"EXT_meshopt_compression\", \"KHR_mesh_quantization\"]",
+    "[\"EXT_unknown_compression\"]",
     "[0, 0, 0]",
     "[1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16]",
 ];

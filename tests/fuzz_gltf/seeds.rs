@@ -1,5 +1,9 @@
-//! The inputs mutations start from: the two shipped characters (GLB) and a
-//! small generated character written both as `.gltf` + `.bin` and as GLB.
+//! The inputs mutations start from: the two shipped characters (GLB), a
+//! small generated character written both as `.gltf` + `.bin` and as GLB,
+//! and CesiumMan compressed four ways (`tests/compressed/`: Draco, meshopt
+//! by gltf-transform and by gltfpack, quantized), so the decoders of
+//! `KHR_draco_mesh_compression`, `EXT_meshopt_compression` and
+//! `KHR_mesh_quantization` see damaged streams.
 
 use std::path::Path;
 
@@ -26,6 +30,14 @@ pub struct Seed {
 /// Name of the binary buffer of [`Kind::Gltf`] cases.
 pub const BIN_NAME: &str = "case.bin";
 
+/// The compressed seeds, after the four plain ones.
+pub const COMPRESSED: [&str; 4] = [
+    "cesium_draco.glb",
+    "cesium_meshopt.glb",
+    "cesium_gltfpack.glb",
+    "cesium_quantized.glb",
+];
+
 pub fn all() -> Vec<Seed> {
     let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
     let mut seeds = Vec::new();
@@ -36,6 +48,12 @@ pub fn all() -> Vec<Seed> {
     for name in ["CesiumMan.glb", "BrainStem.glb"] {
         let bytes = std::fs::read(assets.join(name)).expect("shipped asset");
         let (json, bin) = split_glb(&bytes).expect("shipped assets are GLB");
+        seeds.push(seed(name, Kind::Glb, json, bin));
+    }
+    let compressed = assets.join("../tests/compressed");
+    for name in COMPRESSED {
+        let bytes = std::fs::read(compressed.join(name)).expect("compressed test file");
+        let (json, bin) = split_glb(&bytes).expect("compressed test files are GLB");
         seeds.push(seed(name, Kind::Glb, json, bin));
     }
     seeds
@@ -49,6 +67,13 @@ fn seed(name: &'static str, kind: Kind, json: Vec<u8>, bin: Vec<u8>) -> Seed {
             views
                 .iter()
                 .filter_map(|v| {
+                    // A meshopt-compressed view's bytes lie where its
+                    // extension says (buffer 0, the binary chunk); its own
+                    // range is in the fallback buffer, which has none.
+                    let v = v
+                        .get("extensions")
+                        .and_then(|e| e.get("EXT_meshopt_compression"))
+                        .unwrap_or(v);
                     let offset = v["byteOffset"].as_u64().unwrap_or(0) as usize;
                     let length = v["byteLength"].as_u64()? as usize;
                     let end = (offset + length).min(bin.len());

@@ -1,4 +1,6 @@
-//! Bounds-checked reading of glTF accessors: `POSITION` (VEC3 FLOAT), indices
+//! Bounds-checked reading of glTF accessors: `POSITION` (VEC3 FLOAT, or with
+//! `KHR_mesh_quantization` VEC3 of (normalized) BYTE, UNSIGNED_BYTE, SHORT or
+//! UNSIGNED_SHORT), indices
 //! (SCALAR unsigned byte/short/int), and for skinned characters `JOINTS_n`,
 //! `WEIGHTS_n`, inverse bind matrices and animation keyframes, each in every
 //! component format core glTF 2.0 allows; dense or sparse.
@@ -9,16 +11,118 @@
 //! is an `Err` with a one-line reason, never a panic. Floats must be finite
 //! (NaN and infinities are refused with the element and component), except
 //! positions, whose caller reports them by vertex.
+//!
+//! Compressed data reads through the same functions: a buffer view with
+//! `EXT_meshopt_compression` is decoded the first time an accessor reads it
+//! ([`gltf_meshopt`](super::gltf_meshopt)), and an accessor of a
+//! Draco-compressed primitive reads the values its primitive's stream decoded
+//! ([`gltf_draco`](super::gltf_draco)).
+
+use std::cell::OnceCell;
 
 use gltf::accessor::{Accessor, DataType, Dimensions};
-use gltf::buffer::{Data, View};
+use gltf::buffer::Data;
+use gltf::json::Value;
 
+use super::gltf_meshopt::{self, DecodedView};
 use super::limits::Budget;
 
-/// The loaded buffers of a file and the budget its decoding is charged to.
+/// The loaded buffers of a file and the budget its decoding is charged to,
+/// with what was decoded from compressed views and primitives.
 pub(crate) struct Buffers {
     pub data: Vec<Data>,
     pub budget: Budget,
+    views: Vec<ViewEntry>,
+    decoded_accessors: Vec<OnceCell<Vec<u8>>>,
+}
+
+/// A buffer view: where its bytes lie, and, for a meshopt-compressed one, its
+/// extension object and (once read) its decoded bytes or why they cannot be had.
+struct ViewEntry {
+    buffer: usize,
+    offset: usize,
+    length: usize,
+    meshopt: Option<Value>,
+    decoded: OnceCell<Result<DecodedView, String>>,
+}
+
+impl Buffers {
+    /// The buffers' bytes `data` of `document`, charged to `budget`.
+    pub(crate) fn new(data: Vec<Data>, budget: Budget, document: &gltf::Document) -> Self {
+        let views = document
+            .views()
+            .map(|view| ViewEntry {
+                buffer: view.buffer().index(),
+                offset: view.offset(),
+                length: view.length(),
+                meshopt: view.extension_value(gltf_meshopt::EXTENSION).cloned(),
+                decoded: OnceCell::new(),
+            })
+            .collect();
+        let decoded_accessors = (0..document.accessors().len())
+            .map(|_| OnceCell::new())
+            .collect();
+        Self {
+            data,
+            budget,
+            views,
+            decoded_accessors,
+        }
+    }
+
+    /// The bytes of buffer view `index`: decoded if it is meshopt-compressed,
+    /// else checked against its loaded buffer.
+    pub(crate) fn view_bytes_at(&self, index: usize) -> Result<&[u8], String> {
+        let view = self
+            .views
+            .get(index)
+            .ok_or_else(|| format!("buffer view {index} does not exist"))?;
+        if let Some(extension) = &view.meshopt {
+            return view
+                .decoded
+                .get_or_init(|| {
+                    gltf_meshopt::decode_view(
+                        index,
+                        extension,
+                        view.length,
+                        &self.data,
+                        &self.budget,
+                    )
+                })
+                .as_ref()
+                .map(DecodedView::bytes)
+                .map_err(Clone::clone);
+        }
+        let buffer = view.buffer;
+        let data = self.data.get(buffer).ok_or_else(|| {
+            format!("buffer view {index} refers to buffer {buffer}, which was not loaded")
+        })?;
+        let (start, length) = (view.offset, view.length);
+        start
+            .checked_add(length)
+            .and_then(|end| data.get(start..end))
+            .ok_or_else(|| {
+                format!(
+                    "buffer view {index} (offset {start}, length {length}) extends past the end of buffer {buffer} ({} bytes)",
+                    data.len()
+                )
+            })
+    }
+
+    /// Sets what accessor `index` holds (decoded from its primitive's Draco
+    /// stream). An accessor two compressed primitives share keeps the first.
+    pub(crate) fn set_decoded_accessor(&self, index: usize, bytes: Vec<u8>) {
+        if let Some(cell) = self.decoded_accessors.get(index) {
+            let _ = cell.set(bytes);
+        }
+    }
+
+    fn decoded_accessor(&self, index: usize) -> Option<&[u8]> {
+        self.decoded_accessors
+            .get(index)
+            .and_then(OnceCell::get)
+            .map(Vec::as_slice)
+    }
 }
 
 /// Most elements an accessor without a buffer view (all zeros, perhaps with
@@ -26,14 +130,31 @@ pub(crate) struct Buffers {
 /// hostile count could otherwise request an absurd allocation.
 const MAX_ELEMENTS_WITHOUT_VIEW: usize = 1 << 24;
 
-/// The positions of a `POSITION` accessor, which core glTF 2.0 requires to be
-/// VEC3 FLOAT (other types need `KHR_mesh_quantization`, which is refused earlier).
+/// The positions of a `POSITION` accessor: VEC3 FLOAT (core glTF 2.0), or
+/// with `KHR_mesh_quantization` VEC3 of BYTE, UNSIGNED_BYTE, SHORT or
+/// UNSIGNED_SHORT, normalized (converted as the spec says) or not (the
+/// integer as a float; the node's transform usually scales it back).
 pub(crate) fn read_positions(
     accessor: &Accessor<'_>,
     buffers: &Buffers,
 ) -> Result<Vec<[f32; 3]>, String> {
-    expect_float(accessor, Dimensions::Vec3, "POSITION", "VEC3 FLOAT")?;
-    read_floats::<3>(accessor, buffers)
+    let integer = matches!(
+        accessor.data_type(),
+        DataType::I8 | DataType::U8 | DataType::I16 | DataType::U16
+    );
+    if accessor.dimensions() != Dimensions::Vec3
+        || !(accessor.data_type() == DataType::F32 && !accessor.normalized() || integer)
+    {
+        return Err(format!(
+            "POSITION must be VEC3 FLOAT, or (KHR_mesh_quantization) VEC3 BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not; found {}",
+            describe(accessor)
+        ));
+    }
+    match (accessor.data_type(), accessor.normalized()) {
+        (DataType::F32, _) => read_floats::<3>(accessor, buffers),
+        (_, true) => read_normalized::<3>(accessor, buffers),
+        (_, false) => read_integers_as_floats::<3>(accessor, buffers),
+    }
 }
 
 /// A VEC3 FLOAT accessor (`what` names it in errors): positions, and
@@ -242,6 +363,28 @@ fn read_normalized<const N: usize>(
     }
 }
 
+/// `N` integers per element (not normalized) as floats, exactly (at most 16 bits).
+fn read_integers_as_floats<const N: usize>(
+    accessor: &Accessor<'_>,
+    buffers: &Buffers,
+) -> Result<Vec<[f32; N]>, String> {
+    match accessor.data_type() {
+        DataType::U8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| f32::from(b[k]))
+        }),
+        DataType::I8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| f32::from(b[k] as i8))
+        }),
+        DataType::U16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| f32::from(u16::from_le_bytes([b[2 * k], b[2 * k + 1]])))
+        }),
+        DataType::I16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
+            std::array::from_fn(|k| f32::from(i16::from_le_bytes([b[2 * k], b[2 * k + 1]])))
+        }),
+        other => Err(format!("{other:?} is not a small integer type")),
+    }
+}
+
 /// The values of an index accessor, widened to `u32`.
 pub(crate) fn read_indices(accessor: &Accessor<'_>, buffers: &Buffers) -> Result<Vec<u32>, String> {
     if accessor.dimensions() != Dimensions::Scalar {
@@ -285,27 +428,40 @@ fn read_elements<T: Copy>(
     decode: impl Fn(&[u8]) -> T,
 ) -> Result<Vec<T>, String> {
     let count = accessor.count();
-    let mut out = match accessor.view() {
-        Some(view) => {
-            let elements = Strided::new(
-                view_bytes(&view, buffers)?,
-                accessor.offset(),
-                view.stride(),
-                size,
-                count,
-            )
-            .map_err(|e| format!("buffer view {}: {e}", view.index()))?;
-            charge::<T>(buffers, count)?;
-            (0..count).map(|i| decode(elements.get(i))).collect()
-        }
-        None if count <= MAX_ELEMENTS_WITHOUT_VIEW => {
-            charge::<T>(buffers, count)?;
-            vec![zero; count]
-        }
-        None => {
-            return Err(format!(
-                "has no buffer view but declares {count} elements (at most {MAX_ELEMENTS_WITHOUT_VIEW} are accepted)"
-            ));
+    let mut out = if let Some(decoded) = buffers.decoded_accessor(accessor.index()) {
+        let elements = Strided::new(decoded, 0, None, size, count)
+            .map_err(|e| format!("its values decoded from Draco: {e}"))?;
+        charge::<T>(buffers, count)?;
+        (0..count).map(|i| decode(elements.get(i))).collect()
+    } else {
+        match accessor.view() {
+            Some(view) => {
+                let elements = Strided::new(
+                    buffers.view_bytes_at(view.index())?,
+                    accessor.offset(),
+                    view.stride(),
+                    size,
+                    count,
+                )
+                .map_err(|e| format!("buffer view {}: {e}", view.index()))?;
+                charge::<T>(buffers, count)?;
+                (0..count).map(|i| decode(elements.get(i))).collect()
+            }
+            None if accessor.sparse().is_none() => {
+                return Err(
+                    "has no buffer view, no sparse values and was not decoded from a Draco stream"
+                        .into(),
+                );
+            }
+            None if count <= MAX_ELEMENTS_WITHOUT_VIEW => {
+                charge::<T>(buffers, count)?;
+                vec![zero; count]
+            }
+            None => {
+                return Err(format!(
+                    "has no buffer view but declares {count} elements (at most {MAX_ELEMENTS_WITHOUT_VIEW} are accepted)"
+                ));
+            }
         }
     };
     if let Some(sparse) = accessor.sparse() {
@@ -314,7 +470,7 @@ fn read_elements<T: Copy>(
         let index_size = indices.index_type().size();
         let index_view = indices.view();
         let index_elements = Strided::new(
-            view_bytes(&index_view, buffers)?,
+            buffers.view_bytes_at(index_view.index())?,
             indices.offset(),
             None,
             index_size,
@@ -324,7 +480,7 @@ fn read_elements<T: Copy>(
         let values = sparse.values();
         let value_view = values.view();
         let value_elements = Strided::new(
-            view_bytes(&value_view, buffers)?,
+            buffers.view_bytes_at(value_view.index())?,
             values.offset(),
             None,
             size,
@@ -345,28 +501,6 @@ fn read_elements<T: Copy>(
         }
     }
     Ok(out)
-}
-
-/// The bytes of a buffer view, checked against the loaded buffer.
-fn view_bytes<'b>(view: &View<'_>, buffers: &'b Buffers) -> Result<&'b [u8], String> {
-    let buffer = view.buffer().index();
-    let data = buffers.data.get(buffer).ok_or_else(|| {
-        format!(
-            "buffer view {} refers to buffer {buffer}, which was not loaded",
-            view.index()
-        )
-    })?;
-    let (start, length) = (view.offset(), view.length());
-    start
-        .checked_add(length)
-        .and_then(|end| data.get(start..end))
-        .ok_or_else(|| {
-            format!(
-                "buffer view {} (offset {start}, length {length}) extends past the end of buffer {buffer} ({} bytes)",
-                view.index(),
-                data.len()
-            )
-        })
 }
 
 /// `count` elements of `size` bytes, `stride` bytes apart from `offset`, all

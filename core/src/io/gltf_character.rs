@@ -74,8 +74,8 @@ use super::gltf_accessor::{self, Buffers};
 use super::gltf_bind::{Attachments, JointSlots, place};
 use super::gltf_static::{
     AttachedMesh, LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble,
-    check_node_transform, load_buffers, local_matrix, one_line, parse_root, read_file,
-    read_triangle_primitive, scene_roots, validate,
+    check_node_transform, load_buffers, local_matrix, note_extensions, one_line, parse_root,
+    read_file, read_triangle_primitive, scene_roots, validate,
 };
 use super::limits::{Budget, LoadLimits, MAX_COORDINATE};
 use crate::character::skeleton::exactly_affine;
@@ -128,11 +128,7 @@ pub fn load_character_from(
         buffers: &buffers,
         report: LoadReport::default(),
     };
-    for extension in document.extensions_used() {
-        loader.report.notes.push(format!(
-            "extension {extension} is used but not required; its data is ignored"
-        ));
-    }
+    note_extensions(&document, &mut loader.report);
     let character = loader.load(&document)?;
     Ok((character, loader.report))
 }

@@ -19,8 +19,10 @@
 //!   bind pose. Children of that node still inherit its transform.
 //! - Morph targets are ignored (base positions as stored) and noted in
 //!   [`LoadReport::notes`].
-//! - Any entry of `extensionsRequired` (e.g. `KHR_draco_mesh_compression`,
-//!   `KHR_mesh_quantization`) is an error: only core glTF 2.0 is read.
+//! - Compressed files: `KHR_draco_mesh_compression` (primitives decoded by
+//!   `draco-core`), `EXT_meshopt_compression` (buffer views decoded by
+//!   meshoptimizer) and `KHR_mesh_quantization` (integer positions) are read;
+//!   any other entry of `extensionsRequired` is an error.
 //! - Leniency: `POSITION` accessors without the spec's `min`/`max` are accepted.
 //!   Strictness: a node reached twice (a cycle or shared subtree) is an error.
 //!
@@ -43,6 +45,7 @@ use nalgebra::{Matrix4, Point3, Quaternion, UnitQuaternion, Vector3};
 
 use super::gltf_accessor::{self, Buffers};
 use super::limits::{Budget, LoadLimits, MAX_COORDINATE};
+use super::{gltf_draco, gltf_meshopt};
 use crate::geometry::Point;
 use crate::mesh::{MeshError, TriMesh};
 
@@ -97,10 +100,11 @@ pub enum LoadError {
         reason: String,
     },
 
-    /// The file lists extensions in `extensionsRequired`; none is supported.
+    /// The file lists extensions in `extensionsRequired` that the loaders do
+    /// not read (see [`SUPPORTED_EXTENSIONS`]).
     #[error(
-        "{}: requires unsupported glTF extension(s) {}; only core glTF 2.0 can be read",
-        .path.display(), .extensions.join(", ")
+        "{}: requires unsupported glTF extension(s) {}; core glTF 2.0 can be read, with {}",
+        .path.display(), .extensions.join(", "), SUPPORTED_EXTENSIONS.join(", ")
     )]
     UnsupportedExtension {
         /// The file.
@@ -159,6 +163,20 @@ pub enum LoadError {
         /// The file.
         path: PathBuf,
         /// What was being charged and by how much it goes over.
+        reason: String,
+    },
+
+    /// A compressed primitive cannot be decoded: a malformed or over-budget
+    /// Draco stream, or decoded data that does not fit its accessors.
+    #[error("{}: mesh {mesh} primitive {primitive}: {reason}", .path.display())]
+    Compressed {
+        /// The file.
+        path: PathBuf,
+        /// The primitive's mesh.
+        mesh: MeshRef,
+        /// Index of the primitive in its mesh.
+        primitive: usize,
+        /// What is wrong, on one line (starts with the extension's name).
         reason: String,
     },
 
@@ -358,6 +376,7 @@ impl LoadError {
             | Self::NodeGraph { path, .. }
             | Self::Node { path, .. }
             | Self::Limit { path, .. }
+            | Self::Compressed { path, .. }
             | Self::MissingPosition { path, .. }
             | Self::Accessor { path, .. }
             | Self::IndexOutOfRange { path, .. }
@@ -513,11 +532,7 @@ pub fn load_static_mesh_from(
         triangles: Vec::new(),
         report: LoadReport::default(),
     };
-    for extension in document.extensions_used() {
-        loader.report.notes.push(format!(
-            "extension {extension} is used but not required; its data is ignored"
-        ));
-    }
+    note_extensions(&document, &mut loader.report);
     loader.walk(&document)?;
     let Loader {
         positions,
@@ -539,6 +554,26 @@ pub fn load_static_mesh_from(
         error,
     })?;
     Ok((mesh, report))
+}
+
+/// The extensions the loaders read when a file requires them.
+pub const SUPPORTED_EXTENSIONS: [&str; 3] = [
+    super::gltf_draco::EXTENSION,
+    super::gltf_meshopt::EXTENSION,
+    "KHR_mesh_quantization",
+];
+
+/// Notes in `report` the extensions the file uses: decoded, or ignored.
+pub(crate) fn note_extensions(document: &gltf::Document, report: &mut LoadReport) {
+    for extension in document.extensions_used() {
+        report
+            .notes
+            .push(if SUPPORTED_EXTENSIONS.contains(&extension) {
+                format!("extension {extension} is used and read")
+            } else {
+                format!("extension {extension} is used but not required; its data is ignored")
+            });
+    }
 }
 
 /// The bytes of the file at `path`, refused past the budget before they are
@@ -645,21 +680,25 @@ pub(crate) fn parse_root(
             root.asset.version
         )));
     }
-    if !root.extensions_required.is_empty() {
+    let unsupported: Vec<String> = root
+        .extensions_required
+        .iter()
+        .filter(|e| !SUPPORTED_EXTENSIONS.contains(&e.as_str()))
+        .map(|e| one_line(e))
+        .collect();
+    if !unsupported.is_empty() {
         return Err(LoadError::UnsupportedExtension {
             path: path.to_owned(),
-            extensions: root
-                .extensions_required
-                .iter()
-                .map(|e| one_line(e))
-                .collect(),
+            extensions: unsupported,
         });
     }
     Ok((root, blob))
 }
 
 /// gltf's validation, which makes every index in the document safe to follow,
-/// minus two checks this loader does not need: `min`/`max` on `POSITION`
+/// minus the checks of what gltf-json does not know (the compression
+/// extensions in `extensionsRequired`, accessors a Draco stream fills) and
+/// two checks this loader does not need: `min`/`max` on `POSITION`
 /// accessors (often missing in the wild) and a missing `POSITION` (reported
 /// later with mesh and primitive, and harmless on skipped primitives).
 pub(crate) fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadError> {
@@ -682,6 +721,28 @@ pub(crate) fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadE
             }
         }
     }
+    // Accessors whose data a Draco stream holds have no buffer view.
+    let mut from_draco = vec![false; root.accessors.len()];
+    for primitive in root.meshes.iter().flat_map(|m| &m.primitives) {
+        let draco = primitive
+            .extensions
+            .as_ref()
+            .is_some_and(|e| e.others.contains_key(gltf_draco::EXTENSION));
+        if draco {
+            let accessors = primitive.attributes.values().chain(&primitive.indices);
+            for accessor in accessors {
+                if let Some(flag) = from_draco.get_mut(accessor.value()) {
+                    *flag = true;
+                }
+            }
+        }
+    }
+    let draco_accessor = |at: &str| {
+        at.strip_prefix("accessors[")
+            .and_then(|rest| rest.strip_suffix("].bufferView"))
+            .and_then(|i| i.parse::<usize>().ok())
+            .is_some_and(|i| from_draco.get(i).copied().unwrap_or(false))
+    };
     let mut errors: Vec<String> = Vec::new();
     root.validate(
         root,
@@ -691,7 +752,11 @@ pub(crate) fn validate(path: &Path, root: &gltf::json::Root) -> Result<(), LoadE
             let at = at.as_str();
             let tolerated = at.ends_with("[\"POSITION\"].min")
                 || at.ends_with("[\"POSITION\"].max")
-                || (at.ends_with("attributes[\"POSITION\"]") && error == Error::Missing);
+                || (at.ends_with("attributes[\"POSITION\"]") && error == Error::Missing)
+                // gltf-json knows none of the compression extensions; parse_root
+                // refused every required extension the loaders do not read.
+                || (at.starts_with("extensionsRequired[") && error == Error::Unsupported)
+                || (draco_accessor(at) && error == Error::Missing);
             if !tolerated {
                 errors.push(format!("{at}: {error}"));
             }
@@ -729,6 +794,12 @@ pub(crate) fn load_buffers(
             buffer: buffer.index(),
             reason: one_line(&reason),
         };
+        if gltf_meshopt::is_fallback(&buffer) {
+            // Room for meshopt-decoded views only: its bytes, if it has any
+            // (a URI), are never read.
+            buffers.push(Data(Vec::new()));
+            continue;
+        }
         let data = match buffer.source() {
             Source::Bin => {
                 let bin = blob.take().ok_or_else(|| {
@@ -780,10 +851,7 @@ pub(crate) fn load_buffers(
         }
         buffers.push(Data(data));
     }
-    Ok(Buffers {
-        data: buffers,
-        budget,
-    })
+    Ok(Buffers::new(buffers, budget, document))
 }
 
 /// `%XX` escapes decoded; `None` if an escape is malformed or the result is not UTF-8.
@@ -890,6 +958,14 @@ pub(crate) fn read_triangle_primitive(
                 mesh: mesh_ref.clone(),
                 primitive: p,
             })?;
+    let draco_indices = gltf_draco::decode_primitive(primitive, buffers).map_err(|reason| {
+        LoadError::Compressed {
+            path: path.to_owned(),
+            mesh: mesh_ref.clone(),
+            primitive: p,
+            reason: one_line(&reason),
+        }
+    })?;
     let stored = gltf_accessor::read_positions(&position_accessor, buffers)
         .map_err(|reason| accessor_error(position_accessor.index(), reason))?;
     if let Some((vertex, &[x, y, z])) = stored
@@ -913,8 +989,27 @@ pub(crate) fn read_triangle_primitive(
             path: path.to_owned(),
         });
     }
-    let indices = match primitive.indices() {
-        Some(accessor) => {
+    let indices = match (draco_indices, primitive.indices()) {
+        (Some(indices), _) => {
+            if let Some((entry, &index)) = indices
+                .iter()
+                .enumerate()
+                .find(|(_, i)| **i as usize >= stored.len())
+            {
+                return Err(LoadError::Compressed {
+                    path: path.to_owned(),
+                    mesh: mesh_ref.clone(),
+                    primitive: p,
+                    reason: format!(
+                        "{}: decoded index {index} (entry {entry}) is out of range; the stream has {} points",
+                        gltf_draco::EXTENSION,
+                        stored.len()
+                    ),
+                });
+            }
+            indices
+        }
+        (None, Some(accessor)) => {
             let indices = gltf_accessor::read_indices(&accessor, buffers)
                 .map_err(|reason| accessor_error(accessor.index(), reason))?;
             if let Some((entry, &index)) = indices
@@ -935,7 +1030,7 @@ pub(crate) fn read_triangle_primitive(
             indices
         }
         // Fits: vertices_before + stored.len() <= u32::MAX was checked above.
-        None => (0..stored.len() as u32).collect(),
+        (None, None) => (0..stored.len() as u32).collect(),
     };
     let targets = primitive.morph_targets().len();
     if targets > 0 {

@@ -60,6 +60,11 @@ impl Budget {
         }
     }
 
+    /// Bytes left before the budget is spent.
+    pub(crate) fn remaining(&self) -> usize {
+        self.max.saturating_sub(self.used.get())
+    }
+
     /// Charges `count` items of `size` bytes (`what` names them in the error)
     /// or refuses, saying how far over the budget the load would go.
     pub(crate) fn charge(&self, what: &str, count: usize, size: usize) -> Result<(), String> {

@@ -7,7 +7,9 @@
 //! | `gltf_static` | every triangle of a glTF/GLB scene in its static pose, world space (feature `gltf`) |
 //! | `gltf_character` | the skinned character of a glTF/GLB scene: skeleton, bind-pose mesh, influences, clips (feature `gltf`) |
 //! | `gltf_bind` | how a character's meshes bind to its one skeleton: several skins (joint slots, bind spaces), rigid meshes below a joint (private) |
-//! | `gltf_accessor` | bounds-checked reading of glTF accessors (private, used by both loaders) |
+//! | `gltf_accessor` | bounds-checked reading of glTF accessors, quantized positions included (private, used by both loaders) |
+//! | `gltf_meshopt` | `EXT_meshopt_compression`: compressed buffer views decoded by meshoptimizer (private) |
+//! | `gltf_draco` | `KHR_draco_mesh_compression`: compressed primitives decoded by `draco-core` (private) |
 
 #[cfg(feature = "gltf")]
 mod gltf_accessor;
@@ -15,6 +17,10 @@ mod gltf_accessor;
 mod gltf_bind;
 #[cfg(feature = "gltf")]
 pub mod gltf_character;
+#[cfg(feature = "gltf")]
+mod gltf_draco;
+#[cfg(feature = "gltf")]
+mod gltf_meshopt;
 #[cfg(feature = "gltf")]
 pub mod gltf_static;
 pub mod limits;
