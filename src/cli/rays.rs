@@ -8,7 +8,7 @@ use anyhow::Context;
 use cornertree::pipeline::Method;
 use cornertree_workbench::bench::rays::{RayPattern, RaysConfig, measure_rays};
 use cornertree_workbench::record::blueprint::rays_blueprint;
-use cornertree_workbench::record::rays::{LEVELS, begin, character_entity, log_frame};
+use cornertree_workbench::record::rays::{LEVELS, RaysRecording, character_entity};
 use cornertree_workbench::report::rays::RaysTable;
 use cornertree_workbench::scenario::{open_scenario_within, scenario_name};
 
@@ -64,7 +64,7 @@ pub fn rays(args: RaysArgs) -> anyhow::Result<String> {
             .clone()
             .unwrap_or_else(|| PathBuf::from("recordings").join(format!("{name}-rays.rrd")))
     });
-    let rec = match &path {
+    let mut rec = match &path {
         Some(p) => {
             if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
                 std::fs::create_dir_all(dir)
@@ -82,8 +82,7 @@ pub fn rays(args: RaysArgs) -> anyhow::Result<String> {
                     .with_blueprint(rays_blueprint(&names, 3, LEVELS))
                     .save(p)
                     .with_context(|| format!("{}: cannot write the recording", p.display()))?;
-                begin(&rec)?;
-                rec
+                RaysRecording::begin(rec)?
             })
         }
         None => None,
@@ -96,8 +95,8 @@ pub fn rays(args: RaysArgs) -> anyhow::Result<String> {
     };
     let progress = progress_bar(frames as u64);
     let report = measure_rays(scene, &name, &config, |session, frame| {
-        if let Some(rec) = &rec {
-            log_frame(rec, session, frame)?;
+        if let Some(rec) = &mut rec {
+            rec.log_frame(session, frame)?;
         }
         progress.inc(1);
         Ok(())
@@ -105,7 +104,7 @@ pub fn rays(args: RaysArgs) -> anyhow::Result<String> {
     .with_context(|| format!("{name}: casting rays"))?;
     progress.finish_and_clear();
     if let Some(rec) = rec {
-        rec.flush_blocking()?;
+        rec.stream().flush_blocking()?;
     }
     let mut out = RaysTable(&report).to_string();
     if let Some(p) = &path {

@@ -27,46 +27,72 @@ pub fn character_entity(i: usize, name: &str) -> String {
     format!("world/characters/{}", body_entity(i, name))
 }
 
-/// The layout and the world's axes (Y up), once.
-pub fn begin(rec: &RecordingStream) -> anyhow::Result<()> {
-    rec.log_static("/", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
-    rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
-    Ok(())
+/// The recording of a `rays` run: the stream, and each character tree's
+/// node levels (computed at the first frame; trees do not change).
+pub struct RaysRecording {
+    rec: RecordingStream,
+    levels: Vec<(Vec<u8>, usize)>,
 }
 
-/// Logs frame `rays.frame`.
-pub fn log_frame(rec: &RecordingStream, session: &Session, rays: &FrameRays) -> anyhow::Result<()> {
-    rec.set_time_sequence(layout::FRAME, rays.frame as i64);
-    for (i, (a, b)) in session
-        .scene
-        .characters
-        .iter()
-        .zip(&session.buffers)
-        .enumerate()
-    {
-        let root = character_entity(i, &a.name);
-        rec.log(
-            format!("{root}/mesh"),
-            &mesh3d(&b.positions, a.character.mesh.indices(), MESH),
-        )?;
-        let view = session.world(0).character(CharacterHandle(i as u32))?;
-        let tree = &view.tree().tree;
-        let levels = layout::node_levels(tree);
-        let count = super::draw::level_count(&levels);
-        let refit = view.refit_state();
-        let by_level = spheres_by_level(refit.spheres.iter().copied(), &levels, count, |n| {
-            refit.is_fresh(cornertree::sphere_tree::NodeId(n as u32))
-        });
-        for (l, (c, r)) in by_level.into_iter().enumerate() {
-            rec.log(
-                format!("{root}/refit_by_rays/level_{l}"),
-                &points(c, r, {
-                    let [r, g, b, _] = layout::level_color(l, count);
-                    [r, g, b, 70]
-                }),
-            )?;
-        }
+impl RaysRecording {
+    /// Logs the world's axes (Y up), once.
+    pub fn begin(rec: RecordingStream) -> anyhow::Result<Self> {
+        rec.log_static("/", &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
+        rec.log_static(layout::WORLD, &rerun::ViewCoordinates::RIGHT_HAND_Y_UP())?;
+        Ok(Self {
+            rec,
+            levels: Vec::new(),
+        })
     }
+
+    /// The stream (to flush it).
+    pub fn stream(&self) -> &RecordingStream {
+        &self.rec
+    }
+
+    /// Logs frame `rays.frame`.
+    pub fn log_frame(&mut self, session: &Session, rays: &FrameRays) -> anyhow::Result<()> {
+        let rec = &self.rec;
+        rec.set_time_sequence(layout::FRAME, rays.frame as i64);
+        for (i, (a, b)) in session
+            .scene
+            .characters
+            .iter()
+            .zip(&session.buffers)
+            .enumerate()
+        {
+            let root = character_entity(i, &a.name);
+            rec.log(
+                format!("{root}/mesh"),
+                &mesh3d(&b.positions, a.character.mesh.indices(), MESH),
+            )?;
+            let view = session.world(0).character(CharacterHandle(i as u32))?;
+            if self.levels.len() <= i {
+                let levels = layout::node_levels(&view.tree().tree);
+                let count = super::draw::level_count(&levels);
+                self.levels.push((levels, count));
+            }
+            let (levels, count) = (&self.levels[i].0, self.levels[i].1);
+            let refit = view.refit_state();
+            let by_level = spheres_by_level(refit.spheres.iter().copied(), levels, count, |n| {
+                refit.is_fresh(cornertree::sphere_tree::NodeId(n as u32))
+            });
+            for (l, (c, r)) in by_level.into_iter().enumerate() {
+                rec.log(
+                    format!("{root}/refit_by_rays/level_{l}"),
+                    &points(c, r, {
+                        let [r, g, b, _] = layout::level_color(l, count);
+                        [r, g, b, 70]
+                    }),
+                )?;
+            }
+        }
+        log_rays(rec, rays)
+    }
+}
+
+/// The rays, their hit points and how many hit.
+fn log_rays(rec: &RecordingStream, rays: &FrameRays) -> anyhow::Result<()> {
     let (mut hit_lines, mut miss_lines, mut hit_points) = (Vec::new(), Vec::new(), Vec::new());
     for (r, h) in rays.rays.iter().zip(&rays.hits) {
         let o = p3(&r.origin);
