@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 use cornertree::choice::parse_choice;
 use cornertree::pipeline::Method;
 use cornertree_workbench::record::blueprint::run_blueprint;
+use cornertree_workbench::record::framing::{self, FramedBlueprint, first_frame_bounds};
 use cornertree_workbench::record::layout::display_level;
 use cornertree_workbench::record::recorder::{character_paths, object_paths};
 use cornertree_workbench::record::{RecordOptions, Recorder, SceneInfo};
@@ -49,14 +50,16 @@ fn session(path: &Path, method: Method, frames: usize) -> anyhow::Result<Session
     Ok(Session::new(r, 0)?)
 }
 
-/// The blueprint the recording opens on.
-fn blueprint(session: &Session) -> rerun::blueprint::Blueprint {
+/// The blueprint the recording opens on, its spheres view looking at the
+/// characters' first frame.
+fn blueprint(session: &Session) -> FramedBlueprint {
     let view = session.world(0).character(session.character(0));
     let level = view.map(|v| display_level(&v.tree().tree)).unwrap_or(0);
     run_blueprint(
         &character_paths(&session.scene),
         &object_paths(&session.scene),
         level,
+        first_frame_bounds(&session.scene),
     )
 }
 
@@ -91,9 +94,8 @@ fn main() -> anyhow::Result<()> {
     use clap::Parser as _;
     let args = Args::parse();
     let session = session(&args.scenario, args.method, args.frames)?;
-    let (rec, _serve_guard) = args
-        .rerun
-        .init_with_blueprint("cornertree_example_record_world", blueprint(&session))?;
+    let (rec, _serve_guard) = args.rerun.init("cornertree_example_record_world")?;
+    framing::send(&rec, &blueprint(&session))?;
     let frames = run(rec, session)?;
     eprintln!("{}: {frames} frames recorded", args.scenario.display());
     Ok(())

@@ -140,6 +140,38 @@ fn run_recording_has_the_layout_and_the_reported_values() {
         rrd.has_blueprint,
         "a blueprint is stored with the recording"
     );
+    // The contacts and spheres views open looking at the character's first
+    // frame: each eye's look target is the centre of the recorded frame-0
+    // mesh's box, the eye far enough out for the box to fit.
+    let eyes = rrd.eyes();
+    assert_eq!(eyes.len(), 2, "{eyes:?}");
+    for &(_, position, target) in &eyes {
+        let mesh = rrd.mesh_vertices(AVATAR_MESH, 0);
+        assert!(!mesh.is_empty());
+        let (mut lo, mut hi) = ([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+        for v in &mesh {
+            for k in 0..3 {
+                lo[k] = lo[k].min(v[k]);
+                hi[k] = hi[k].max(v[k]);
+            }
+        }
+        let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f32>().sqrt();
+        for k in 0..3 {
+            let centre = 0.5 * (lo[k] + hi[k]);
+            assert!(
+                (target[k] - centre).abs() < 1e-3,
+                "look target {target:?}, box {lo:?} {hi:?}"
+            );
+        }
+        let distance = (0..3)
+            .map(|k| (position[k] - target[k]).powi(2))
+            .sum::<f32>()
+            .sqrt();
+        assert!(
+            distance >= diagonal,
+            "eye {distance} m from the target, box diagonal {diagonal} m"
+        );
+    }
     let paths = rrd.entity_paths();
     for p in [
         layout::ENV_MESH,

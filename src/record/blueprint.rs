@@ -6,6 +6,7 @@ use rerun::blueprint::{
     TextDocumentView, TextLogView, TimePanel, TimeSeriesView, Vertical,
 };
 
+use super::framing::{Bounds, Eye, FramedBlueprint, view_path};
 use super::layout;
 
 /// A run, of one character or a world. Left: the bodies close up (meshes,
@@ -18,7 +19,17 @@ use super::layout;
 /// and recall per kind and in total, the time per stage; this frame's
 /// report, the event log and the scenario. Views list bodies by wildcard,
 /// so the layout is the same for one character or a crowd.
-pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: usize) -> Blueprint {
+///
+/// With `first_frame` (the bodies' box at frame 0, `framing::first_frame_bounds`),
+/// the contacts and spheres views open looking at it (`framing`): left to
+/// themselves they frame what the whole recording holds, which cuts bodies
+/// off at frame 0; the scene view frames the room well by itself.
+pub fn run_blueprint(
+    characters: &[String],
+    objects: &[String],
+    sphere_level: usize,
+    first_frame: Option<Bounds>,
+) -> FramedBlueprint {
     // Entity filters take `**` only at the end: each body's spheres are left
     // out by name.
     let no_spheres: Vec<String> = characters
@@ -28,7 +39,7 @@ pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: us
         .collect();
     // The bodies without the room (nor the room's side of the contacts): the
     // view frames the characters, not the walls.
-    let contacts = Spatial3DView::new("contacts")
+    let contacts: ContainerLike = Spatial3DView::new("contacts")
         .with_origin("/")
         .with_contents(
             [
@@ -45,7 +56,8 @@ pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: us
             ]
             .into_iter()
             .chain(no_spheres.iter().cloned()),
-        );
+        )
+        .into();
     let scene = Spatial3DView::new("scene").with_origin("/").with_contents(
         [
             "/world/**".to_string(),
@@ -63,10 +75,24 @@ pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: us
             )
         }))
         .collect();
-    sphere_paths.push("/cd/**".into());
-    let spheres = Spatial3DView::new(format!("character spheres, level {sphere_level}"))
-        .with_origin("/")
-        .with_contents(sphere_paths);
+    // The characters' side of the contacts only (a wall's triangles are
+    // metres long and would crowd the spheres).
+    sphere_paths.extend([
+        "/cd/**".to_string(),
+        format!("- /{}/environment/room", layout::COLLIDING),
+        format!("- /{}/environment/room", layout::FALSE_POSITIVE),
+        format!("- /{}/environment/room", layout::FALSE_NEGATIVE),
+    ]);
+    let spheres: ContainerLike =
+        Spatial3DView::new(format!("character spheres, level {sphere_level}"))
+            .with_origin("/")
+            .with_contents(sphere_paths)
+            .into();
+    // Both close-up views look at the bodies' first frame.
+    let eyes: Vec<Eye> = [&contacts, &spheres]
+        .into_iter()
+        .filter_map(|view| Some(first_frame?.eye(view_path(view)?)))
+        .collect();
     let by_kind = |title: &str, counter: &str| {
         TimeSeriesView::new(title).with_origin(format!("/{}/by_kind/{counter}", layout::STATS))
     };
@@ -84,12 +110,9 @@ pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: us
     let info = TextDocumentView::new("scenario").with_origin(format!("/{}", layout::INFO));
     let events = TextLogView::new("events").with_origin(format!("/{}", layout::EVENTS));
     let views: Vec<ContainerLike> = vec![
-        Vertical::new([
-            Horizontal::new([contacts.into(), spheres.into()]).into(),
-            scene.into(),
-        ])
-        .with_row_shares([3.0, 2.0])
-        .into(),
+        Vertical::new([Horizontal::new([contacts, spheres]).into(), scene.into()])
+            .with_row_shares([3.0, 2.0])
+            .into(),
         Vertical::new([
             Tabs::new([
                 tests.into(),
@@ -116,9 +139,12 @@ pub fn run_blueprint(characters: &[String], objects: &[String], sphere_level: us
         ])
         .into(),
     ];
-    frames_paused(Blueprint::new(
-        Horizontal::new(views).with_column_shares([3.0, 2.0]),
-    ))
+    FramedBlueprint {
+        blueprint: frames_paused(Blueprint::new(
+            Horizontal::new(views).with_column_shares([3.0, 2.0]),
+        )),
+        eyes,
+    }
 }
 
 /// Only the views: the blueprint and selection panels collapsed, the time

@@ -19,6 +19,7 @@ pub mod ccd_recorder;
 pub mod draw;
 pub mod figures;
 pub mod footer;
+pub mod framing;
 pub mod layout;
 pub mod rays;
 pub mod recorder;

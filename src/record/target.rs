@@ -7,8 +7,8 @@
 
 use std::path::{Path, PathBuf};
 
+use super::framing::{self, FramedBlueprint};
 use rerun::RecordingStream;
-use rerun::blueprint::Blueprint;
 
 /// What the command line asked for.
 #[derive(Clone, Debug)]
@@ -73,13 +73,14 @@ impl RecordingTarget {
         scenario: &str,
         method: &str,
         methods: usize,
-        blueprint: Blueprint,
+        blueprint: FramedBlueprint,
     ) -> anyhow::Result<Option<OpenRecording>> {
         let name = format!("{scenario} / {method}");
         match self {
             RecordingTarget::None => Ok(None),
             RecordingTarget::Rerun(args, _) => {
-                let (stream, _guard) = args.init_with_blueprint("cornertree", blueprint)?;
+                let (stream, _guard) = args.init("cornertree")?;
+                framing::send(&stream, &blueprint)?;
                 stream.send_recording_name(name)?;
                 Ok(Some(OpenRecording { stream, path: None }))
             }
@@ -109,9 +110,9 @@ impl RecordingTarget {
                 .map_err(|e| cannot(&e))?;
                 let stream = rerun::RecordingStreamBuilder::new("cornertree")
                     .recording_name(name)
-                    .with_blueprint(blueprint)
                     .set_sinks((sink,))
                     .map_err(|e| cannot(&e))?;
+                framing::send(&stream, &blueprint).map_err(|e| cannot(&e))?;
                 Ok(Some(OpenRecording {
                     stream,
                     path: Some(path),

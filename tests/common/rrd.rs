@@ -12,6 +12,8 @@ pub struct Rrd {
     pub chunks: Vec<Chunk>,
     /// Whether a blueprint store came with it.
     pub has_blueprint: bool,
+    /// The blueprint store's chunks.
+    pub blueprint: Vec<Chunk>,
     /// The first decoding error (a truncated file ends with one).
     pub error: Option<String>,
 }
@@ -27,6 +29,7 @@ pub fn read_rrd(path: &Path) -> Rrd {
     let mut rrd = Rrd {
         chunks: Vec::new(),
         has_blueprint: false,
+        blueprint: Vec::new(),
         error: None,
     };
     for msg in DecoderApp::decode_lazy(std::io::BufReader::new(file)) {
@@ -36,6 +39,8 @@ pub fn read_rrd(path: &Path) -> Rrd {
                     rrd.chunks.push(Chunk::from_arrow_msg(&m).expect("a chunk"));
                 } else {
                     rrd.has_blueprint = true;
+                    rrd.blueprint
+                        .push(Chunk::from_arrow_msg(&m).expect("a blueprint chunk"));
                 }
             }
             Ok(_) => {}
@@ -106,6 +111,44 @@ impl Rrd {
         for c in self.chunks.iter().filter(|c| path_of(c) == entity) {
             if let Some(col) = c.timelines().get(&"frame".into()) {
                 out.extend(col.times().map(|t| t.as_i64()));
+            }
+        }
+        out
+    }
+
+    /// Every 3D view eye the blueprint sets: `(entity, position, look target)`.
+    pub fn eyes(&self) -> Vec<(String, [f32; 3], [f32; 3])> {
+        use rerun::external::re_sdk_types::blueprint::archetypes::EyeControls3D;
+        let pid = EyeControls3D::descriptor_position().component;
+        let tid = EyeControls3D::descriptor_look_target().component;
+        let mut out = Vec::new();
+        for c in self
+            .blueprint
+            .iter()
+            .filter(|c| path_of(c).ends_with("/EyeControls3D"))
+        {
+            let positions = c.iter_component::<rerun::components::Position3D>(pid);
+            let targets = c.iter_component::<rerun::components::Position3D>(tid);
+            for (p, t) in positions.zip(targets) {
+                out.push((path_of(c), p[0].0.0, t[0].0.0));
+            }
+        }
+        out
+    }
+
+    /// The vertex positions of a `Mesh3D` entity at `frame`.
+    pub fn mesh_vertices(&self, entity: &str, frame: i64) -> Vec<[f32; 3]> {
+        let id = rerun::Mesh3D::descriptor_vertex_positions().component;
+        let mut out = Vec::new();
+        for c in self.chunks.iter().filter(|c| path_of(c) == entity) {
+            let times = c
+                .iter_component_indices("frame".into(), id)
+                .map(|(t, _)| t.as_i64());
+            let values = c.iter_component::<rerun::components::Position3D>(id);
+            for (t, v) in times.zip(values) {
+                if t == frame {
+                    out.extend(v.iter().map(|p| p.0.0));
+                }
             }
         }
         out

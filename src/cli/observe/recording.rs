@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use anyhow::Context;
 use cornertree_workbench::record::blueprint::{ccd_blueprint, run_blueprint};
 use cornertree_workbench::record::footer::{FOOTER_MAX_BYTES, Footer, finish_file};
+use cornertree_workbench::record::framing;
 use cornertree_workbench::record::layout;
 use cornertree_workbench::record::recorder::{character_paths, object_paths};
 use cornertree_workbench::record::target::RecordingTarget;
@@ -54,6 +55,12 @@ impl Recordings {
             paths: Vec::new(),
             created: Vec::new(),
         };
+        // Where the characters stand at frame 0, for the views' eyes.
+        let first_frame = if ccd {
+            None
+        } else {
+            framing::first_frame_bounds(scene)
+        };
         for m in 0..methods {
             let w = session.world(m);
             let level = w
@@ -62,9 +69,9 @@ impl Recordings {
                 .unwrap_or(0);
             let blueprint = if ccd {
                 let bodies: Vec<String> = characters.iter().chain(&objects).cloned().collect();
-                ccd_blueprint(&bodies)
+                ccd_blueprint(&bodies).into()
             } else {
-                run_blueprint(&characters, &objects, level)
+                run_blueprint(&characters, &objects, level, first_frame)
             };
             let method = w.method();
             let opened = target
