@@ -989,13 +989,17 @@ pub(crate) fn read_triangle_primitive(
             path: path.to_owned(),
         });
     }
+    // The first index past the primitive's vertices: `(entry, index)`.
+    let out_of_range = |indices: &[u32]| {
+        indices
+            .iter()
+            .enumerate()
+            .find(|(_, i)| **i as usize >= stored.len())
+            .map(|(entry, &index)| (entry, index))
+    };
     let indices = match (draco_indices, primitive.indices()) {
         (Some(indices), _) => {
-            if let Some((entry, &index)) = indices
-                .iter()
-                .enumerate()
-                .find(|(_, i)| **i as usize >= stored.len())
-            {
+            if let Some((entry, index)) = out_of_range(&indices) {
                 return Err(LoadError::Compressed {
                     path: path.to_owned(),
                     mesh: mesh_ref.clone(),
@@ -1012,11 +1016,7 @@ pub(crate) fn read_triangle_primitive(
         (None, Some(accessor)) => {
             let indices = gltf_accessor::read_indices(&accessor, buffers)
                 .map_err(|reason| accessor_error(accessor.index(), reason))?;
-            if let Some((entry, &index)) = indices
-                .iter()
-                .enumerate()
-                .find(|(_, i)| **i as usize >= stored.len())
-            {
+            if let Some((entry, index)) = out_of_range(&indices) {
                 return Err(LoadError::IndexOutOfRange {
                     path: path.to_owned(),
                     mesh: mesh_ref.clone(),
