@@ -150,10 +150,10 @@ pub(crate) fn read_positions(
             describe(accessor)
         ));
     }
-    match (accessor.data_type(), accessor.normalized()) {
-        (DataType::F32, _) => read_floats::<3>(accessor, buffers),
-        (_, true) => read_normalized::<3>(accessor, buffers),
-        (_, false) => read_integers_as_floats::<3>(accessor, buffers),
+    if accessor.data_type() == DataType::F32 {
+        read_floats::<3>(accessor, buffers)
+    } else {
+        read_small_integers::<3>(accessor, buffers, accessor.normalized())
     }
 }
 
@@ -273,7 +273,7 @@ fn read_unit_vec4(
     if accessor.data_type() == DataType::F32 {
         finite(what, read_floats::<4>(accessor, buffers)?)
     } else {
-        read_normalized::<4>(accessor, buffers)
+        read_small_integers::<4>(accessor, buffers, true)
     }
 }
 
@@ -336,53 +336,28 @@ fn read_floats<const N: usize>(
     })
 }
 
-/// `N` normalized integers per element, converted to floats with the spec's
-/// rules: unsigned `c / max`, signed `max(c / max, -1)`.
-fn read_normalized<const N: usize>(
+/// `N` 8- or 16-bit integers per element as floats: `normalized`, with the
+/// spec's rules (unsigned `c / max`, signed `max(c / max, -1)`); else the
+/// integer itself, exactly.
+fn read_small_integers<const N: usize>(
     accessor: &Accessor<'_>,
     buffers: &Buffers,
+    normalized: bool,
 ) -> Result<Vec<[f32; N]>, String> {
-    match accessor.data_type() {
-        DataType::U8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| f32::from(b[k]) / 255.0)
-        }),
-        DataType::I8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| (f32::from(b[k] as i8) / 127.0).max(-1.0))
-        }),
-        DataType::U16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| {
-                f32::from(u16::from_le_bytes([b[2 * k], b[2 * k + 1]])) / 65535.0
-            })
-        }),
-        DataType::I16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| {
-                (f32::from(i16::from_le_bytes([b[2 * k], b[2 * k + 1]])) / 32767.0).max(-1.0)
-            })
-        }),
-        other => Err(format!("{other:?} cannot be normalized")),
-    }
-}
-
-/// `N` integers per element (not normalized) as floats, exactly (at most 16 bits).
-fn read_integers_as_floats<const N: usize>(
-    accessor: &Accessor<'_>,
-    buffers: &Buffers,
-) -> Result<Vec<[f32; N]>, String> {
-    match accessor.data_type() {
-        DataType::U8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| f32::from(b[k]))
-        }),
-        DataType::I8 => read_elements(accessor, N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| f32::from(b[k] as i8))
-        }),
-        DataType::U16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| f32::from(u16::from_le_bytes([b[2 * k], b[2 * k + 1]])))
-        }),
-        DataType::I16 => read_elements(accessor, 2 * N, buffers, [0.0; N], |b| {
-            std::array::from_fn(|k| f32::from(i16::from_le_bytes([b[2 * k], b[2 * k + 1]])))
-        }),
-        other => Err(format!("{other:?} is not a small integer type")),
-    }
+    // Bytes per component, the type's largest value, a component's value.
+    let (size, max, value): (usize, f32, fn(&[u8]) -> f32) = match accessor.data_type() {
+        DataType::U8 => (1, 255.0, |b| f32::from(b[0])),
+        DataType::I8 => (1, 127.0, |b| f32::from(b[0] as i8)),
+        DataType::U16 => (2, 65535.0, |b| f32::from(u16::from_le_bytes([b[0], b[1]]))),
+        DataType::I16 => (2, 32767.0, |b| f32::from(i16::from_le_bytes([b[0], b[1]]))),
+        other => return Err(format!("{other:?} is not an 8- or 16-bit integer type")),
+    };
+    read_elements(accessor, size * N, buffers, [0.0; N], |b| {
+        std::array::from_fn(|k| {
+            let c = value(&b[size * k..]);
+            if normalized { (c / max).max(-1.0) } else { c }
+        })
+    })
 }
 
 /// The values of an index accessor, widened to `u32`.
