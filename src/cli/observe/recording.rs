@@ -55,8 +55,9 @@ impl Recordings {
             paths: Vec::new(),
             created: Vec::new(),
         };
-        // Where the characters stand at frame 0, for the views' eyes.
-        let first_frame = if ccd {
+        // Where the bodies stand at frame 0, for the views' eyes: a frame
+        // posed and skinned, so only when something is recorded.
+        let first_frame = if ccd || matches!(target, RecordingTarget::None) {
             None
         } else {
             framing::first_frame_bounds(scene)
