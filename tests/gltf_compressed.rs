@@ -7,6 +7,10 @@
 //! far compression moved their vertices that frame (measured, and bounded by
 //! the quantization step).
 
+mod common;
+use common::Scratch;
+use common::glb::Glb;
+
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -165,9 +169,8 @@ fn unsupported_required_extensions_are_still_refused_naming_them() {
         b"\"extensionsRequired\":[\"KHR_",
         b"\"extensionsRequired\":[\"XYZ_",
     );
-    let path =
-        std::env::temp_dir().join(format!("cornertree-unsupported-{}.glb", std::process::id()));
-    std::fs::write(&path, patched).unwrap();
+    let scratch = Scratch::new("unsupported");
+    let path = scratch.write("unsupported.glb", patched);
     let error = load_static_mesh(&path).unwrap_err();
     let message = error.to_string();
     assert!(
@@ -176,7 +179,6 @@ fn unsupported_required_extensions_are_still_refused_naming_them() {
     );
     assert!(message.contains("XYZ_"), "{message}");
     assert!(message.contains("KHR_draco_mesh_compression"), "{message}");
-    let _ = std::fs::remove_file(path);
 }
 
 fn replace_once(bytes: &[u8], from: &[u8], to: &[u8]) -> Vec<u8> {
@@ -420,50 +422,30 @@ fn a_scenario_on_compressed_files_gives_the_uncompressed_pairs() {
     }
 }
 
-/// `bytes` with the `len` bytes at `at` of its binary chunk set to `byte`.
-fn damaged(bytes: &[u8], at: usize, len: usize, byte: u8) -> Vec<u8> {
-    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let bin = 20 + json_len + 8;
-    let mut out = bytes.to_vec();
-    out[bin + at..bin + at + len].fill(byte);
-    out
+/// `name` from `tests/compressed/` with part of buffer view `view`'s stream
+/// set to 0xff (`part` gives, from the stream's length, where the damage
+/// starts and how long it is); written to `scratch`.
+fn damaged(
+    scratch: &Scratch,
+    name: &str,
+    view: usize,
+    part: impl Fn(usize) -> (usize, usize),
+) -> PathBuf {
+    let mut glb = Glb::parse(std::fs::read(compressed(name)).unwrap());
+    let (offset, length) = glb.stream_range(view);
+    let (skip, len) = part(length);
+    glb.fill(offset + skip, len, 0xff);
+    scratch.write(name, &glb.bytes)
 }
 
-/// The byte range of buffer view `view`'s compressed stream (the view's own
-/// range, or its meshopt extension's) in the binary chunk.
-fn stream_range(bytes: &[u8], view: usize) -> (usize, usize) {
-    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
-    let json: serde_json::Value = serde_json::from_slice(&bytes[20..20 + json_len]).unwrap();
-    let v = &json["bufferViews"][view];
-    let v = v
-        .get("extensions")
-        .and_then(|e| e.get("EXT_meshopt_compression"))
-        .unwrap_or(v);
-    (
-        v["byteOffset"].as_u64().unwrap_or(0) as usize,
-        v["byteLength"].as_u64().unwrap() as usize,
-    )
-}
-
-fn write_temp(name: &str, bytes: &[u8]) -> PathBuf {
-    let path = std::env::temp_dir().join(format!("cornertree-{}-{name}", std::process::id()));
-    std::fs::write(&path, bytes).unwrap();
-    path
-}
-
-#[test]
-fn a_damaged_draco_stream_is_one_line_naming_file_mesh_and_primitive() {
-    let bytes = std::fs::read(compressed("cesium_draco.glb")).unwrap();
-    // View 2 holds the Draco stream (see the file's JSON); wipe its middle.
-    let (offset, length) = stream_range(&bytes, 2);
-    let path = write_temp(
-        "damaged_draco.glb",
-        &damaged(&bytes, offset + 16, length / 2, 0xff),
-    );
-    for error in [
-        load_character(&path).map(|_| ()).unwrap_err(),
-        load_static_mesh(&path).map(|_| ()).unwrap_err(),
-    ] {
+/// Both loaders' errors on `path`, each checked to be one line that starts
+/// with the file's path.
+fn errors_of_both_loaders(path: &Path) -> [(LoadError, String); 2] {
+    [
+        load_character(path).map(|_| ()).unwrap_err(),
+        load_static_mesh(path).map(|_| ()).unwrap_err(),
+    ]
+    .map(|error| {
         let message = error.to_string();
         eprintln!("{message}");
         assert!(!message.contains('\n'), "{message}");
@@ -471,35 +453,30 @@ fn a_damaged_draco_stream_is_one_line_naming_file_mesh_and_primitive() {
             message.starts_with(&path.display().to_string()),
             "{message}"
         );
+        (error, message)
+    })
+}
+
+#[test]
+fn a_damaged_draco_stream_is_one_line_naming_file_mesh_and_primitive() {
+    let scratch = Scratch::new("damaged-draco");
+    // View 2 holds the Draco stream (see the file's JSON); wipe its middle.
+    let path = damaged(&scratch, "cesium_draco.glb", 2, |n| (16, n / 2));
+    for (_, message) in errors_of_both_loaders(&path) {
         assert!(
             message.contains("mesh 0 \"Cesium_Man\" primitive 0"),
             "{message}"
         );
         assert!(message.contains("KHR_draco_mesh_compression"), "{message}");
     }
-    let _ = std::fs::remove_file(path);
 }
 
 #[test]
 fn a_damaged_meshopt_stream_is_one_line_naming_file_mesh_primitive_and_accessor() {
-    let bytes = std::fs::read(compressed("cesium_gltfpack.glb")).unwrap();
-    // gltfpack: POSITION is accessor 2 on buffer view 2.
-    let (offset, length) = stream_range(&bytes, 2);
-    let path = write_temp(
-        "damaged_meshopt.glb",
-        &damaged(&bytes, offset, length, 0xff),
-    );
-    for error in [
-        load_character(&path).map(|_| ()).unwrap_err(),
-        load_static_mesh(&path).map(|_| ()).unwrap_err(),
-    ] {
-        let message = error.to_string();
-        eprintln!("{message}");
-        assert!(!message.contains('\n'), "{message}");
-        assert!(
-            message.starts_with(&path.display().to_string()),
-            "{message}"
-        );
+    let scratch = Scratch::new("damaged-meshopt");
+    // gltfpack: POSITION is accessor 2 on buffer view 2; wipe its whole stream.
+    let path = damaged(&scratch, "cesium_gltfpack.glb", 2, |n| (0, n));
+    for (error, message) in errors_of_both_loaders(&path) {
         assert!(
             message.contains("mesh 0 primitive 0: accessor 2"),
             "{message}"
@@ -513,7 +490,6 @@ fn a_damaged_meshopt_stream_is_one_line_naming_file_mesh_primitive_and_accessor(
             "{message}"
         );
     }
-    let _ = std::fs::remove_file(path);
 }
 
 #[test]

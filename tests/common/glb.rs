@@ -1,5 +1,6 @@
 //! Damaging a GLB file on purpose: numbers in its binary chunk overwritten
-//! at the place the JSON chunk says an accessor's element lies.
+//! at the place the JSON chunk says an accessor's element lies, or a
+//! compressed stream's bytes overwritten.
 
 use serde_json::Value;
 
@@ -55,5 +56,26 @@ impl Glb {
             + element * stride
             + 4 * component;
         self.bytes[at..at + 4].copy_from_slice(&value.to_le_bytes());
+    }
+
+    /// Where buffer view `view`'s bytes lie in the binary chunk: the view's
+    /// own range, or for a meshopt-compressed view its compressed stream's
+    /// (`byteOffset`, `byteLength`).
+    pub fn stream_range(&self, view: usize) -> (usize, usize) {
+        let v = &self.json["bufferViews"][view];
+        let v = v
+            .get("extensions")
+            .and_then(|e| e.get("EXT_meshopt_compression"))
+            .unwrap_or(v);
+        (
+            v["byteOffset"].as_u64().unwrap_or(0) as usize,
+            v["byteLength"].as_u64().unwrap() as usize,
+        )
+    }
+
+    /// Sets `len` bytes of the binary chunk, from `at`, to `byte`.
+    pub fn fill(&mut self, at: usize, len: usize, byte: u8) {
+        let start = self.bin_start + at;
+        self.bytes[start..start + len].fill(byte);
     }
 }
