@@ -336,6 +336,9 @@ fn read_floats<const N: usize>(
     })
 }
 
+/// A component's value read from its little-endian bytes.
+type ComponentValue = fn(&[u8]) -> f32;
+
 /// `N` 8- or 16-bit integers per element as floats: `normalized`, with the
 /// spec's rules (unsigned `c / max`, signed `max(c / max, -1)`); else the
 /// integer itself, exactly.
@@ -345,7 +348,7 @@ fn read_small_integers<const N: usize>(
     normalized: bool,
 ) -> Result<Vec<[f32; N]>, String> {
     // Bytes per component, the type's largest value, a component's value.
-    let (size, max, value): (usize, f32, fn(&[u8]) -> f32) = match accessor.data_type() {
+    let (size, max, value): (usize, f32, ComponentValue) = match accessor.data_type() {
         DataType::U8 => (1, 255.0, |b| f32::from(b[0])),
         DataType::I8 => (1, 127.0, |b| f32::from(b[0] as i8)),
         DataType::U16 => (2, 65535.0, |b| f32::from(u16::from_le_bytes([b[0], b[1]]))),
