@@ -15,7 +15,9 @@ use crate::geometry::query_shapes::{
 use crate::geometry::{Point, Sphere, Triangle};
 use crate::mesh::{TriMesh, TriangleId};
 use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
-use crate::sphere_tree::{Hierarchy, Node, NodeId, SphereTree, Workspace, traverse_guarded};
+use crate::sphere_tree::{
+    Hierarchy, Node, NodeId, Order, SphereTree, Workspace, traverse_guarded, traverse_ordered,
+};
 
 use super::character_side::{CharacterSide, TimedRefit};
 use super::counters::FrameCounters;
@@ -286,10 +288,12 @@ fn nearest<H: Hierarchy>(
     let reach = Cell::new(ray.max_distance);
     let best = Cell::new((f64::INFINITY, None::<LeafPair>));
     let (guards, tests) = (Cell::new(0u64), Cell::new(0u64));
-    let stats = traverse_guarded(
+    let order = NearestFirst { ray, reach: &reach };
+    let stats = traverse_ordered(
         h,
         node,
         ws,
+        &order,
         |_, s| {
             if s.radius == f32::INFINITY {
                 return true;
@@ -316,6 +320,49 @@ fn nearest<H: Hierarchy>(
         guard_tests: guards.get(),
         triangle_tests: tests.get(),
         leaf: best.get().1,
+    }
+}
+
+/// A ray's spheres opened nearest first, and one whose nearest point along
+/// the ray lies beyond the best hit found since it was pushed dropped
+/// unopened ([`Order`]).
+struct NearestFirst<'r> {
+    ray: &'r Ray,
+    /// The best hit's distance so far (rounded up), or the ray's length.
+    reach: &'r Cell<f32>,
+}
+
+impl Order for NearestFirst<'_> {
+    const ORDERED: bool = true;
+
+    /// A lower bound of the distance at which the ray may enter `s`
+    /// (`-∞` for a leaf let through): the centre's distance along the ray
+    /// less the radius, less a millionth of the centre's distance (far more
+    /// than `f64` rounding of these few operations).
+    #[inline]
+    fn key(&self, s: &Sphere) -> f32 {
+        if s.radius == f32::INFINITY {
+            return f32::NEG_INFINITY;
+        }
+        let m = s.center.cast::<f64>() - self.ray.origin.cast::<f64>();
+        let along = m.dot(&self.ray.direction.cast::<f64>());
+        let r = f64::from(s.radius);
+        // The sum of the components' sizes bounds the centre's distance
+        // (no square root).
+        let far = m.x.abs() + m.y.abs() + m.z.abs();
+        let enter = along - r * (1.0 + 1e-9) - 1e-6 * far;
+        // Rounded down to `f32`.
+        let k = enter as f32;
+        if f64::from(k) > enter {
+            k.next_down()
+        } else {
+            k
+        }
+    }
+
+    #[inline]
+    fn keep(&self, key: f32) -> bool {
+        key <= self.reach.get()
     }
 }
 

@@ -17,7 +17,7 @@
 
 use super::node::NodeId;
 use super::pass_marks::PassMarks;
-use super::traverse::{Hierarchy, LeafPair, TraversalStats, Workspace, traverse_core};
+use super::traverse::{AsTested, Hierarchy, LeafPair, TraversalStats, Workspace, traverse_core};
 use crate::geometry::Sphere;
 
 /// [`traverse_guarded`](super::traverse_guarded) where `group(j)` gives, for
@@ -39,11 +39,11 @@ where
     G: FnMut(NodeId, &Sphere) -> bool,
     F: FnMut(LeafPair),
 {
-    traverse_core(a, b, ws, Some(marks), group, guard, on_leaf_pair)
+    traverse_core(a, b, ws, Some(marks), group, &AsTested, guard, on_leaf_pair)
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use std::collections::BTreeSet;
 
     use super::traverse_grouped;
@@ -53,7 +53,8 @@ mod tests {
     use crate::sphere_tree::PassMarks;
     use crate::sphere_tree::{BuildParams, NodeId, SphereTree, Workspace, build_tree, traverse};
 
-    fn soup(seed: u64, n: usize, spread: f32, size: f32) -> TriMesh {
+    /// `n` random triangles of about `size` in a cube of side `spread`.
+    pub(in crate::sphere_tree) fn soup(seed: u64, n: usize, spread: f32, size: f32) -> TriMesh {
         let mut x = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
         let mut next = move || {
             x ^= x << 13;
@@ -77,7 +78,8 @@ mod tests {
         TriMesh::new(positions, triangles).unwrap()
     }
 
-    fn tree(mesh: &TriMesh) -> SphereTree {
+    /// A tree over every triangle of `mesh`.
+    pub(in crate::sphere_tree) fn tree(mesh: &TriMesh) -> SphereTree {
         let all: Vec<TriangleId> = (0..mesh.triangle_count() as u32).map(TriangleId).collect();
         build_tree(mesh, &all, BuildParams::default())
     }

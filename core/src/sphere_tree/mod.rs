@@ -40,5 +40,8 @@ pub use build::{BuildParams, build_tree};
 pub(crate) use grouped::traverse_grouped;
 pub use node::{Node, NodeId, SphereTree};
 pub(crate) use pass_marks::PassMarks;
-pub use traverse::{Hierarchy, TraversalStats, Workspace, traverse, traverse_guarded};
+pub use traverse::{
+    AsTested, Hierarchy, Order, TraversalStats, Workspace, traverse, traverse_guarded,
+    traverse_ordered,
+};
 pub use validate::TreeError;

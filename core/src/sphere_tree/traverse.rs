@@ -56,6 +56,8 @@ impl Hierarchy for SphereTree {
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
     stack: Vec<(NodeId, NodeId)>,
+    /// Each stacked pair's key, for an ordered traversal ([`Order`]) only.
+    keys: Vec<f32>,
 }
 
 impl Workspace {
@@ -64,15 +66,23 @@ impl Workspace {
         Self::default()
     }
 
-    /// Current stack capacity (for allocation tests).
+    /// Current stack capacity (for allocation tests): the smaller of the
+    /// stack's and, once an ordered traversal has used them, its keys'.
     pub fn capacity(&self) -> usize {
-        self.stack.capacity()
+        match self.keys.capacity() {
+            0 => self.stack.capacity(),
+            k => k.min(self.stack.capacity()),
+        }
     }
 
-    /// Makes room for a stack of `n` entries.
+    /// Makes room for a stack of `n` entries (and their keys, once an
+    /// ordered traversal has used them).
     pub fn reserve_to(&mut self, n: usize) {
         if self.stack.capacity() < n {
             self.stack.reserve_exact(n - self.stack.len());
+        }
+        if self.keys.capacity() > 0 && self.keys.capacity() < n {
+            self.keys.reserve_exact(n - self.keys.len());
         }
     }
 
@@ -80,6 +90,9 @@ impl Workspace {
     pub fn reserve_headroom(&mut self) {
         let want = 2 * self.stack.capacity();
         self.stack.reserve(want.saturating_sub(self.stack.len()));
+        if self.keys.capacity() > 0 {
+            self.keys.reserve(want.saturating_sub(self.keys.len()));
+        }
     }
 }
 
@@ -141,7 +154,75 @@ where
     G: FnMut(NodeId, &crate::geometry::Sphere) -> bool,
     F: FnMut(LeafPair),
 {
-    traverse_core(a, b, ws, None, |_| None, guard, on_leaf_pair)
+    traverse_core(a, b, ws, None, |_| None, &AsTested, guard, on_leaf_pair)
+}
+
+/// The order in which a traversal opens the pairs pushed at one node, and
+/// whether a pair is still worth opening when its turn comes: a ray's
+/// nearest hit wants the spheres nearest its origin first, and a sphere
+/// beyond the best hit found since it was pushed dropped unopened (so its
+/// children are never refit). Only the order of the work changes, and the
+/// pairs dropped are the ones `keep` rules out.
+pub trait Order {
+    /// Whether pairs are ordered at all (`false`: popped in the order they
+    /// were tested, last first, and no key kept).
+    const ORDERED: bool;
+    /// The key of a pair whose `a` node has sphere `s`: smaller keys are
+    /// opened first.
+    fn key(&self, s: &Sphere) -> f32;
+    /// Whether a pair pushed with `key` is still to be opened.
+    fn keep(&self, key: f32) -> bool;
+}
+
+/// No order: the pairs of a node are opened last tested first, all of them.
+pub struct AsTested;
+
+impl Order for AsTested {
+    const ORDERED: bool = false;
+    #[inline(always)]
+    fn key(&self, _: &Sphere) -> f32 {
+        0.0
+    }
+    #[inline(always)]
+    fn keep(&self, _: f32) -> bool {
+        true
+    }
+}
+
+/// [`traverse_guarded`] opening the pairs pushed at each node in `order`.
+pub fn traverse_ordered<A, B, O, G, F>(
+    a: &mut A,
+    b: &mut B,
+    ws: &mut Workspace,
+    order: &O,
+    guard: G,
+    on_leaf_pair: F,
+) -> TraversalStats
+where
+    A: Hierarchy + ?Sized,
+    B: Hierarchy + ?Sized,
+    O: Order,
+    G: FnMut(NodeId, &crate::geometry::Sphere) -> bool,
+    F: FnMut(LeafPair),
+{
+    traverse_core(a, b, ws, None, |_| None, order, guard, on_leaf_pair)
+}
+
+/// Sorts the pairs stacked from `from` on by key, largest first (so the
+/// smallest is popped first): a node's few children, by insertion.
+#[inline]
+fn sort_pushed(ws: &mut Workspace, from: usize) {
+    for k in from + 1..ws.stack.len() {
+        let (key, pair) = (ws.keys[k], ws.stack[k]);
+        let mut m = k;
+        while m > from && ws.keys[m - 1] < key {
+            ws.keys[m] = ws.keys[m - 1];
+            ws.stack[m] = ws.stack[m - 1];
+            m -= 1;
+        }
+        ws.keys[m] = key;
+        ws.stack[m] = pair;
+    }
 }
 
 /// The traversal behind [`traverse_guarded`] and
@@ -149,12 +230,14 @@ where
 /// for which `group(j)` names a group descends each sphere of `a` once per
 /// group, against the group's sphere (see [`super::grouped`]); without, no
 /// leaf is grouped.
-pub(super) fn traverse_core<A, B, K, G, F>(
+#[allow(clippy::too_many_arguments)]
+pub(super) fn traverse_core<A, B, K, O, G, F>(
     a: &mut A,
     b: &mut B,
     ws: &mut Workspace,
     mut marks: Option<&mut PassMarks>,
     mut group: K,
+    order: &O,
     mut guard: G,
     mut on_leaf_pair: F,
 ) -> TraversalStats
@@ -162,6 +245,7 @@ where
     A: Hierarchy + ?Sized,
     B: Hierarchy + ?Sized,
     K: FnMut(NodeId) -> Option<(u32, Sphere)>,
+    O: Order,
     G: FnMut(NodeId, &Sphere) -> bool,
     F: FnMut(LeafPair),
 {
@@ -173,13 +257,20 @@ where
         m.begin_pass();
     }
     ws.stack.clear();
+    ws.keys.clear();
     stats.sphere_tests += 1;
     a.tested(NodeId::ROOT);
     b.tested(NodeId::ROOT);
     if a.sphere(NodeId::ROOT).overlaps(&b.sphere(NodeId::ROOT)) {
         ws.stack.push((NodeId::ROOT, NodeId::ROOT));
+        if O::ORDERED {
+            ws.keys.push(f32::NEG_INFINITY);
+        }
     }
     while let Some((i, j)) = ws.stack.pop() {
+        if O::ORDERED && !order.keep(ws.keys.pop().unwrap_or(f32::NEG_INFINITY)) {
+            continue;
+        }
         let na: Node = *a.tree().node(i);
         let nb: Node = *b.tree().node(j);
         let grouped = match marks.as_deref_mut() {
@@ -204,6 +295,7 @@ where
                 // A group's leaf is met by the group's sphere.
                 let sb = grouped.map_or_else(|| b.sphere(j), |(_, s)| s);
                 let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
+                let pushed_from = ws.stack.len();
                 if open_a {
                     for c in na.children() {
                         stats.sphere_tests += 1;
@@ -212,6 +304,9 @@ where
                         let sc = a.sphere(NodeId(c));
                         if sc.overlaps(&sb) && guard(j, &sc) {
                             ws.stack.push((NodeId(c), j));
+                            if O::ORDERED {
+                                ws.keys.push(order.key(&sc));
+                            }
                             prefetch_next(a, b, &marks, NodeId(c), j, sc.radius, sb.radius);
                         }
                     }
@@ -223,9 +318,15 @@ where
                         let sc = b.sphere(NodeId(c));
                         if sa.overlaps(&sc) && guard(NodeId(c), &sa) {
                             ws.stack.push((i, NodeId(c)));
+                            if O::ORDERED {
+                                ws.keys.push(order.key(&sa));
+                            }
                             prefetch_next(a, b, &marks, i, NodeId(c), sa.radius, sc.radius);
                         }
                     }
+                }
+                if O::ORDERED {
+                    sort_pushed(ws, pushed_from);
                 }
                 stats.max_stack = stats.max_stack.max(ws.stack.len());
             }
@@ -269,6 +370,89 @@ fn prefetch_next<A, B>(
     } else {
         for c in nb.children() {
             b.prefetch(NodeId(c));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::collections::BTreeSet;
+
+    use super::{Order, Workspace, traverse, traverse_ordered};
+    use crate::geometry::Sphere;
+    use crate::mesh::TriangleId;
+    use crate::sphere_tree::grouped::tests::{soup, tree};
+
+    /// Nodes by the least `x` of their sphere; those whose least `x` is
+    /// beyond `limit` dropped.
+    struct LeftFirst {
+        limit: f32,
+    }
+
+    impl Order for LeftFirst {
+        const ORDERED: bool = true;
+        fn key(&self, s: &Sphere) -> f32 {
+            s.center.x - s.radius
+        }
+        fn keep(&self, key: f32) -> bool {
+            key <= self.limit
+        }
+    }
+
+    /// Ordered, dropping nothing: the pairs and tests of plain traversal.
+    /// Dropping nodes beyond a limit: exactly the plain pairs whose `a`
+    /// triangle reaches below it are kept (a node's sphere holds its
+    /// subtree's triangles), and fewer tests are made.
+    #[test]
+    fn ordering_changes_the_order_only_and_dropping_keeps_what_it_must() {
+        for seed in 0..30u64 {
+            let (ma, mb) = (soup(seed, 70, 1.0, 0.2), soup(seed + 500, 50, 1.0, 0.3));
+            let (mut ta, mut tb) = (tree(&ma), tree(&mb));
+            let mut ws = Workspace::new();
+            let mut plain = BTreeSet::new();
+            let plain_stats = traverse(&mut ta, &mut tb, &mut ws, |p| {
+                plain.insert((p.primitive_a, p.primitive_b));
+            });
+            let every = LeftFirst {
+                limit: f32::INFINITY,
+            };
+            let mut ordered = BTreeSet::new();
+            let stats = traverse_ordered(
+                &mut ta,
+                &mut tb,
+                &mut ws,
+                &every,
+                |_, _| true,
+                |p| {
+                    ordered.insert((p.primitive_a, p.primitive_b));
+                },
+            );
+            assert_eq!(plain, ordered, "seed {seed}");
+            assert_eq!(plain_stats.sphere_tests, stats.sphere_tests, "seed {seed}");
+
+            let limit = 0.3;
+            let mut kept = BTreeSet::new();
+            let cut = traverse_ordered(
+                &mut ta,
+                &mut tb,
+                &mut ws,
+                &LeftFirst { limit },
+                |_, _| true,
+                |p| {
+                    kept.insert((p.primitive_a, p.primitive_b));
+                },
+            );
+            let left_of_limit = |t: u32| {
+                let tri = ma.triangle(TriangleId(t));
+                [tri.a, tri.b, tri.c].iter().any(|p| p.x <= limit)
+            };
+            for &(a, b) in &plain {
+                if left_of_limit(a) {
+                    assert!(kept.contains(&(a, b)), "seed {seed}: ({a}, {b}) dropped");
+                }
+            }
+            assert!(kept.is_subset(&plain), "seed {seed}");
+            assert!(cut.sphere_tests <= plain_stats.sphere_tests, "seed {seed}");
         }
     }
 }
