@@ -50,6 +50,9 @@ pub struct PassGraph {
 /// they order as the numbers do).
 type Rank = (u32, u32, Reverse<u32>);
 
+/// The end of a list of parked passes.
+const NONE: u32 = u32::MAX;
+
 /// The run's bookkeeping, behind one lock (a pass is tens of microseconds
 /// or more; taking one is a heap pop: the lock is not where time goes).
 #[derive(Default)]
@@ -59,10 +62,17 @@ struct Schedule {
     /// its character before it ends.)
     own_order: Vec<u32>,
     own_next: usize,
-    /// Pairs whose characters have both had their own pass, not started.
+    /// Pairs whose characters have both had their own pass, not started,
+    /// and not parked.
     ready: BinaryHeap<(Rank, u32)>,
-    /// Ready pairs set aside while their characters are held.
-    held: Vec<(Rank, u32)>,
+    /// Ready pairs found with a character held, parked on it until it is
+    /// free (then ready again): a list per character through the passes,
+    /// `parked[c]` its first pass and `parked_next[t]` the one after `t`
+    /// ([`NONE`] ends a list). Taking a pass never walks past a held pair
+    /// twice: with many threads, popping held pairs and pushing them back
+    /// under the lock made the lock the frame's bottleneck.
+    parked: Vec<u32>,
+    parked_next: Vec<u32>,
     /// Per character: a pass holding it is running.
     busy: Vec<bool>,
     /// Per character: its own pass is done.
@@ -87,6 +97,7 @@ impl PassGraph {
             state: Mutex::new(Schedule {
                 busy: vec![false; n],
                 own_done: vec![false; n],
+                parked: vec![NONE; n],
                 chain: vec![0.0; n],
                 pairs_from: vec![0; n + 1],
                 ..Schedule::default()
@@ -193,8 +204,9 @@ impl PassGraph {
         // threads' timing, which must not decide whether a frame allocates.
         st.ready.clear();
         st.ready.reserve(self.pairs.len());
-        st.held.clear();
-        st.held.reserve(self.pairs.len());
+        st.parked.iter_mut().for_each(|p| *p = NONE);
+        st.parked_next.clear();
+        st.parked_next.resize(n + self.pairs.len(), NONE);
         st.busy.iter_mut().for_each(|b| *b = false);
         st.own_done.iter_mut().for_each(|d| *d = false);
         st.done = 0;
@@ -241,44 +253,71 @@ impl PassGraph {
         self.span = st.chain.iter().fold(0.0f64, |m, &c| m.max(f64::from(c)));
     }
 
+    /// A thread's loop: take a pass, run it, then, under one lock, mark it
+    /// done and take the next (one lock a pass, not two: with many threads
+    /// and passes of tens of microseconds the lock is what they share).
     fn work(&self, total: usize, run: &(impl Fn(usize, Option<(u32, u32)>) + Sync)) {
         let mut idle = 0u32;
+        let mut next = self.take(&mut self.state.lock().expect("no pass panicked"), total);
         loop {
-            let Some(t) = self.take(total) else { return };
+            let Some(t) = next else { return };
             let Some(t) = t else {
-                // Every pass left waits for a character another thread holds.
+                // Every pass left waits for a character another thread
+                // holds: wait a little longer each time before asking the
+                // lock again (idle threads asking it at once slow the
+                // threads finishing passes).
                 idle += 1;
-                if idle < 64 {
-                    std::hint::spin_loop();
+                if idle < 12 {
+                    for _ in 0..1u32 << idle {
+                        std::hint::spin_loop();
+                    }
                 } else {
                     std::thread::yield_now();
                 }
+                next = self.take(&mut self.state.lock().expect("no pass panicked"), total);
                 continue;
             };
             idle = 0;
             let t0 = Instant::now();
             run(t, self.pair(t));
             let s = t0.elapsed().as_secs_f32();
-            let (i, j) = self.holds(t);
             let mut st = self.state.lock().expect("no pass panicked");
-            let st = &mut *st;
-            st.costs[t] = s;
-            st.busy[i] = false;
-            st.busy[j] = false;
-            st.done += 1;
-            if self.pair(t).is_some() {
-                continue;
-            }
-            st.own_done[i] = true;
-            // Its pairs whose other character has had its own pass are ready.
-            let (from, to) = (st.pairs_from[i] as usize, st.pairs_from[i + 1] as usize);
-            for &p in &st.pair_passes[from..to] {
+            self.finish(&mut st, t, s);
+            next = self.take(&mut st, total);
+        }
+    }
+
+    /// Pass `t` done in `s` seconds: its characters free, the pairs parked
+    /// on them and (after an own pass) its character's pairs whose other
+    /// character has had its own pass ready.
+    fn finish(&self, st: &mut Schedule, t: usize, s: f32) {
+        let (i, j) = self.holds(t);
+        st.costs[t] = s;
+        st.busy[i] = false;
+        st.busy[j] = false;
+        st.done += 1;
+        // The pairs parked on them may start again.
+        for c in [i, j] {
+            let mut p = std::mem::replace(&mut st.parked[c], NONE);
+            while p != NONE {
+                let next = st.parked_next[p as usize];
                 let (a, b) = self.holds(p as usize);
-                let other = if a == i { b } else { a };
-                if st.own_done[other] {
-                    let rank = rank(&st.chain, &st.costs, a, b, p);
-                    st.ready.push((rank, p));
-                }
+                let rank = rank(&st.chain, &st.costs, a, b, p);
+                st.ready.push((rank, p));
+                p = next;
+            }
+        }
+        if self.pair(t).is_some() {
+            return;
+        }
+        st.own_done[i] = true;
+        let (from, to) = (st.pairs_from[i] as usize, st.pairs_from[i + 1] as usize);
+        for &p in &st.pair_passes[from..to] {
+            let (a, b) = self.holds(p as usize);
+            let other = if a == i { b } else { a };
+            if st.own_done[other] {
+                let rank = rank(&st.chain, &st.costs, a, b, p);
+                st.ready.push((rank, p));
             }
         }
     }
@@ -286,24 +325,23 @@ impl PassGraph {
     /// `None` when every pass is done; `Some(None)` when none can start now;
     /// else the pass started: of the next own pass and the best ready pair
     /// whose characters are free, the better ranked ([`Rank`]).
-    fn take(&self, total: usize) -> Option<Option<usize>> {
-        let mut st = self.state.lock().expect("no pass panicked");
-        let st = &mut *st;
+    fn take(&self, st: &mut Schedule, total: usize) -> Option<Option<usize>> {
         if st.done == total {
             return None;
         }
         let mut pair = None;
         while let Some(e) = st.ready.pop() {
             let (i, j) = self.holds(e.1 as usize);
-            if st.busy[i] || st.busy[j] {
-                st.held.push(e);
+            let on = if st.busy[i] {
+                i
+            } else if st.busy[j] {
+                j
             } else {
                 pair = Some(e);
                 break;
-            }
-        }
-        while let Some(e) = st.held.pop() {
-            st.ready.push(e);
+            };
+            st.parked_next[e.1 as usize] = st.parked[on];
+            st.parked[on] = e.1;
         }
         let own = st.own_order.get(st.own_next).map(|&t| {
             let t = t as usize;
