@@ -34,7 +34,11 @@
 //! moving forward on +Z: hips swing, knees bend in swing, arms counter-swing,
 //! pelvis bobs and twists), `reach` (turn the chest and reach the right arm
 //! forward to a wall in front, hold, and back), `turn` (turn in place by about
-//! 90° to the left, stepping).
+//! 90° to the left, stepping), and three where the body touches itself:
+//! `hand-to-hip` (the right arm drawn in until hand and forearm press the
+//! hip), `arms-crossed` (both forearms folded across the chest, crossing
+//! each other), `squat` (down until calves press thighs, arms forward, and
+//! up again). Each of those rises, holds and returns to rest.
 
 use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
@@ -895,6 +899,9 @@ fn clips(s: &Skeleton, seed: u64) -> Result<Vec<Clip>, ChannelError> {
         walk(s, &mut rng)?,
         reach(s, &mut rng)?,
         turn(s, &mut rng)?,
+        hand_to_hip(s, &mut rng)?,
+        arms_crossed(s, &mut rng)?,
+        squat(s, &mut rng)?,
     ])
 }
 
@@ -1037,4 +1044,101 @@ fn turn(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
         }),
     ];
     Clip::new("turn".into(), ch, s.len())
+}
+
+/// The right arm drawn in and back until the hand and forearm press the
+/// hip and thigh; hold; back.
+fn hand_to_hip(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
+    let end = 2.0 * rng.factor(0.1);
+    let (up, down) = (0.35 * end, 0.65 * end);
+    let inward = 0.32 * rng.factor(0.05);
+    let times = key_times(end);
+    let e = move |t: f32| envelope(t, up, down, end);
+    let ch = vec![
+        // Positive roll swings a hanging right arm towards +X, the body.
+        rotation_channel(s, "upper_arm_r", &times, |t| {
+            rot(0.12 * e(t), 0.0, inward * e(t))
+        }),
+        rotation_channel(s, "forearm_r", &times, |t| {
+            rot(-0.35 * e(t), 0.0, 0.15 * e(t))
+        }),
+        rotation_channel(s, "hand_r", &times, |t| rot(0.0, 0.0, 0.3 * e(t))),
+    ];
+    Clip::new("hand-to-hip".into(), ch, s.len())
+}
+
+/// Both forearms folded across the chest, the left a little higher, so
+/// they cross each other in front of the body; hold; back.
+fn arms_crossed(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
+    let end = 2.2 * rng.factor(0.1);
+    let (up, down) = (0.35 * end, 0.65 * end);
+    let fold = 1.5 * rng.factor(0.03);
+    let across = 1.05 * rng.factor(0.05);
+    let times = key_times(end);
+    let e = move |t: f32| envelope(t, up, down, end);
+    let mut ch = Vec::new();
+    for (side, sign, lift) in [("l", -1.0f32, 0.4f32), ("r", 1.0, 0.28)] {
+        ch.push(rotation_channel(
+            s,
+            &format!("upper_arm_{side}"),
+            &times,
+            |t| rot(-lift * e(t), 0.0, sign * 0.08 * e(t)),
+        ));
+        // Flexed forward, then turned about the vertical to point across.
+        ch.push(rotation_channel(
+            s,
+            &format!("forearm_{side}"),
+            &times,
+            |t| rot(-fold * e(t), sign * across * e(t), 0.0),
+        ));
+    }
+    Clip::new("arms-crossed".into(), ch, s.len())
+}
+
+/// Down into a deep squat (hips flexed past the horizontal, knees folded
+/// until calves press thighs, torso leaning and arms reaching forward for
+/// balance), hold, and up.
+fn squat(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
+    let end = 2.4 * rng.factor(0.1);
+    let (up, down) = (0.4 * end, 0.6 * end);
+    let hip = 1.85 * rng.factor(0.03);
+    let knee = 2.35 * rng.factor(0.02);
+    let times = key_times(end);
+    let e = move |t: f32| envelope(t, up, down, end);
+    // The pelvis drops by what the folded legs lose in height (thigh and
+    // shin lengths from the rest skeleton), with the shin's absolute angle
+    // `knee − hip` back from vertical.
+    let thigh = (joint_pos("thigh_l") - joint_pos("shin_l")).norm();
+    let shin = (joint_pos("shin_l") - joint_pos("foot_l")).norm();
+    let pelvis_rest = s.joint(JointId(0)).rest.translation;
+    let drop = move |x: f32| {
+        let (h, k) = (hip * x, knee * x);
+        thigh + shin - (thigh * h.cos() + shin * (k - h).cos())
+    };
+    let mut ch = vec![
+        translation_channel(s, "pelvis", &times, |t| {
+            pelvis_rest + Vector3::new(0.0, -drop(e(t)), -0.1 * e(t))
+        }),
+        rotation_channel(s, "spine_01", &times, |t| rot(0.35 * e(t), 0.0, 0.0)),
+        rotation_channel(s, "chest", &times, |t| rot(0.2 * e(t), 0.0, 0.0)),
+    ];
+    for side in ["l", "r"] {
+        ch.push(rotation_channel(s, &format!("thigh_{side}"), &times, |t| {
+            rot(-hip * e(t), 0.0, 0.0)
+        }));
+        ch.push(rotation_channel(s, &format!("shin_{side}"), &times, |t| {
+            rot(knee * e(t), 0.0, 0.0)
+        }));
+        // Keeps the sole flat: the shin leans `knee − hip` back.
+        ch.push(rotation_channel(s, &format!("foot_{side}"), &times, |t| {
+            rot((hip - knee) * e(t), 0.0, 0.0)
+        }));
+        ch.push(rotation_channel(
+            s,
+            &format!("upper_arm_{side}"),
+            &times,
+            |t| rot(-1.3 * e(t), 0.0, 0.0),
+        ));
+    }
+    Clip::new("squat".into(), ch, s.len())
 }

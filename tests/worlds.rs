@@ -1,4 +1,5 @@
-//! Worlds (several characters, moving objects) on the library frame loop:
+//! Worlds (several characters, moving objects, characters against
+//! themselves) on the library frame loop:
 //! the exact methods report exactly the reference pairs of every kind on
 //! every frame of the shipped worlds; the outcome does not depend on the
 //! number of threads; bad worlds fail in one line naming the field.
@@ -47,6 +48,10 @@ fn exact_pairs_every_frame(
                 o.character_pairs, truth.exact.characters,
                 "{name} frame {k} {method} characters"
             );
+            assert_eq!(
+                o.self_pairs, truth.exact.self_contact,
+                "{name} frame {k} {method} self"
+            );
             each(&truth, o);
         }
     }
@@ -71,6 +76,7 @@ fn exact_on_every_frame(name: &str, kind: PairKind) {
             PairKind::Environment => truth.exact.environment.len(),
             PairKind::Objects => truth.exact.objects.len(),
             PairKind::Characters => truth.exact.characters.len(),
+            PairKind::SelfContact => truth.exact.self_contact.len(),
         };
         with_contact += usize::from(exact_of_kind > 0);
     });
@@ -96,6 +102,11 @@ fn door_exact_pairs_every_frame() {
 #[test]
 fn crowd_exact_pairs_every_frame() {
     exact_on_every_frame("crowd", PairKind::Characters);
+}
+
+#[test]
+fn self_contact_exact_pairs_every_frame() {
+    exact_on_every_frame("self_contact", PairKind::SelfContact);
 }
 
 #[test]

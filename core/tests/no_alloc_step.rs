@@ -56,7 +56,12 @@ impl Scene {
             })
             .unwrap(),
         );
-        let mut world = CollisionWorld::new(method);
+        // Each walker also against itself: every kind of pass takes part.
+        let settings = cornertree::world::WorldSettings {
+            self_collision: true,
+            ..Default::default()
+        };
+        let mut world = CollisionWorld::with_settings(method, settings);
         world.add_room(Arc::new(room())).unwrap();
         world
             .add_object(Arc::new(box_mesh()), Isometry3::identity())
@@ -121,8 +126,8 @@ fn steps_allocate_nothing_once_buffers_are_sized() {
                 .unwrap();
             let mut scene = Scene::new(method);
             let (first, second, kinds) = pool.install(|| {
-                let mut kinds = [0usize; 3];
-                let mut pass = |kinds: &mut [usize; 3]| {
+                let mut kinds = [0usize; 4];
+                let mut pass = |kinds: &mut [usize; 4]| {
                     (0..frames)
                         .map(|k| {
                             let before = ALLOCATIONS.load(Ordering::Relaxed);
@@ -131,6 +136,7 @@ fn steps_allocate_nothing_once_buffers_are_sized() {
                             kinds[0] += c.room_pairs.len();
                             kinds[1] += c.object_pairs.len();
                             kinds[2] += c.character_pairs.len();
+                            kinds[3] += c.self_pairs.len();
                             n
                         })
                         .collect::<Vec<u64>>()

@@ -33,6 +33,7 @@ pub fn kind_color(kind: PairKind) -> Rgba {
         PairKind::Environment => layout::HIT_ENV_COLOR,
         PairKind::Objects => layout::HIT_OBJECT_COLOR,
         PairKind::Characters => layout::HIT_CHARACTER_COLOR,
+        PairKind::SelfContact => layout::HIT_SELF_COLOR,
     }
 }
 

@@ -115,6 +115,8 @@ pub const HIT_ENV_COLOR: Rgba = [255, 150, 20, 255];
 pub const OBJECT_COLOR: Rgba = [200, 170, 120, 200];
 pub const HIT_OBJECT_COLOR: Rgba = [120, 220, 40, 255];
 pub const HIT_CHARACTER_COLOR: Rgba = [150, 90, 255, 255];
+/// Both triangles of a character's contact with itself.
+pub const HIT_SELF_COLOR: Rgba = [255, 225, 0, 255];
 pub const SUBDIVISION_COLOR: Rgba = [40, 200, 120, 255];
 pub const FALSE_POSITIVE_COLOR: Rgba = [255, 0, 255, 255];
 pub const FALSE_NEGATIVE_COLOR: Rgba = [0, 230, 255, 255];

@@ -26,7 +26,7 @@ use cornertree::geometry::Point;
 use cornertree::pipeline::{FrameCounters, LeafTest};
 use cornertree::sphere_tree::NodeId;
 use cornertree::sphere_tree::refit::{RefitState, Refitter};
-use cornertree::world::{CharacterPair, ObjectPair, PairKind, RoomPair, StepContacts};
+use cornertree::world::{CharacterPair, ObjectPair, PairKind, RoomPair, SelfPair, StepContacts};
 
 /// What to put in a run's recording.
 #[derive(Clone, Copy, Debug)]
@@ -104,7 +104,7 @@ pub struct Recorder {
     trees: Vec<CharacterLevels>,
     room_levels: Vec<u8>,
     room_level_count: usize,
-    had_contact: [bool; 3],
+    had_contact: [bool; PairKind::ALL.len()],
     max_operations: u64,
     frames_logged: usize,
     // Scratch, reused every frame: per body, its triangles to show; per
@@ -232,7 +232,7 @@ impl Recorder {
             trees,
             room_levels,
             room_level_count,
-            had_contact: [false; 3],
+            had_contact: [false; PairKind::ALL.len()],
             max_operations: 0,
             frames_logged: 0,
         };
@@ -597,6 +597,12 @@ impl Recorder {
                         self.hits[p.b.index()].push(p.triangle_b);
                     }
                 }
+                PairKind::SelfContact => {
+                    for p in pairs.self_contact {
+                        self.hits[p.character.index()].push(p.triangle_a);
+                        self.hits[p.character.index()].push(p.triangle_b);
+                    }
+                }
             }
             for h in &mut self.hits {
                 h.sort_unstable();
@@ -801,6 +807,7 @@ struct PairsOf<'a> {
     environment: &'a [RoomPair],
     objects: &'a [ObjectPair],
     characters: &'a [CharacterPair],
+    self_contact: &'a [SelfPair],
 }
 
 /// The pairs of every kind, owned.
@@ -808,6 +815,7 @@ struct OwnedPairs {
     environment: Vec<RoomPair>,
     objects: Vec<ObjectPair>,
     characters: Vec<CharacterPair>,
+    self_contact: Vec<SelfPair>,
 }
 
 /// Items of sorted `a` not in sorted `b`.
@@ -831,6 +839,7 @@ impl<'a> PairsOf<'a> {
             environment: &o.room_pairs,
             objects: &o.object_pairs,
             characters: &o.character_pairs,
+            self_contact: &o.self_pairs,
         }
     }
 
@@ -839,6 +848,7 @@ impl<'a> PairsOf<'a> {
             environment: &p.environment,
             objects: &p.objects,
             characters: &p.characters,
+            self_contact: &p.self_contact,
         }
     }
 
@@ -847,6 +857,7 @@ impl<'a> PairsOf<'a> {
             environment: minus(self.environment, other.environment),
             objects: minus(self.objects, other.objects),
             characters: minus(self.characters, other.characters),
+            self_contact: minus(self.self_contact, other.self_contact),
         }
     }
 
@@ -855,6 +866,7 @@ impl<'a> PairsOf<'a> {
             PairKind::Environment => self.environment.len(),
             PairKind::Objects => self.objects.len(),
             PairKind::Characters => self.characters.len(),
+            PairKind::SelfContact => self.self_contact.len(),
         }
     }
 
@@ -869,6 +881,7 @@ impl OwnedPairs {
             environment: &self.environment,
             objects: &self.objects,
             characters: &self.characters,
+            self_contact: &self.self_contact,
         }
     }
 }

@@ -76,6 +76,9 @@ pub struct Scenario {
     /// `ccd_substeps`: sub-steps per frame step of continuous detection's
     /// ground truth.
     pub ccd_substeps: u32,
+    /// `self_collision`: every character also against itself (pair kind
+    /// `self`; docs/self-collision.md).
+    pub self_collision: bool,
     /// `[environment] subdivide`, applied in order to the room once built.
     pub subdivide: Vec<SubdivideObject>,
 }
@@ -334,6 +337,7 @@ struct RawScenario {
     threshold: Option<Spanned<f64>>,
     ccd: Option<bool>,
     ccd_substeps: Option<Spanned<i64>>,
+    self_collision: Option<bool>,
     #[serde(default)]
     recording: Option<RawRecording>,
 }
@@ -800,6 +804,7 @@ impl Scenario {
             recording,
             ccd: raw.ccd.unwrap_or(false),
             ccd_substeps,
+            self_collision: raw.self_collision.unwrap_or(false),
             subdivide,
             crowd,
         })

@@ -62,6 +62,8 @@ pub struct Resolved {
     /// sub-steps per frame step (`ccd`, `ccd_substeps`).
     pub ccd: bool,
     pub ccd_substeps: u32,
+    /// Every character also against itself (`self_collision`).
+    pub self_collision: bool,
     /// Bytes the bodies, hierarchies and ground truth are estimated to take
     /// (charged to the [`RunLimits`] they were resolved with).
     pub estimated_bytes: usize,
@@ -172,10 +174,11 @@ impl Resolved {
         self.frames
     }
 
-    /// Whether the scenario is a world: several characters, or moving
-    /// objects (reports then count per pair kind).
+    /// Whether the scenario is a world: several characters, moving
+    /// objects, or characters against themselves (reports then count per
+    /// pair kind).
     pub fn is_world(&self) -> bool {
-        self.characters.len() > 1 || !self.objects.is_empty()
+        self.characters.len() > 1 || !self.objects.is_empty() || self.self_collision
     }
 
     /// The first character (a world has at least one).
@@ -184,10 +187,12 @@ impl Resolved {
     }
 
     /// The settings of every method's world: the scenario's big-triangle
-    /// threshold, the paper's tree build, refit timed apart.
+    /// threshold, the paper's tree build, refit timed apart, self-collision
+    /// as the scenario says.
     pub fn world_settings(&self) -> WorldSettings {
         WorldSettings {
             threshold: self.threshold,
+            self_collision: self.self_collision,
             ..WorldSettings::default()
         }
     }
@@ -685,6 +690,7 @@ pub fn resolve_with(
         recording: s.recording,
         ccd: s.ccd,
         ccd_substeps: s.ccd_substeps,
+        self_collision: s.self_collision,
     })
 }
 

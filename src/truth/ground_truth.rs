@@ -13,10 +13,14 @@
 //!   frame (its BVH built anew each frame), the second one's is queried.
 //! * Body pairs whose bounding boxes do not overlap have no pairs, and are
 //!   not handed to parry.
+//! * A character against itself (scenes with `self_collision`):
+//!   [`SelfTruth`], its posed mesh's BVH against itself, neighbours
+//!   dropped.
 
 use nalgebra::Isometry3;
 use serde::Serialize;
 
+use super::self_truth::SelfTruth;
 use super::{Accuracy, BodyPairTruth, MethodContext, MethodTruth, TruthError};
 use crate::scenario::Resolved;
 use cornertree::character::PoseBuffers;
@@ -24,7 +28,7 @@ use cornertree::geometry::{Point, bounds_of};
 use cornertree::mesh::TriMesh;
 use cornertree::world::{
     ByKind, CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
-    StepContacts,
+    SelfPair, StepContacts,
 };
 
 /// This frame's pairs of every kind, sorted.
@@ -33,6 +37,9 @@ pub struct WorldPairs {
     pub environment: Vec<RoomPair>,
     pub objects: Vec<ObjectPair>,
     pub characters: Vec<CharacterPair>,
+    /// Each character against itself (scenes with `self_collision`).
+    #[serde(rename = "self")]
+    pub self_contact: Vec<SelfPair>,
 }
 
 /// The reference of the current frame.
@@ -40,6 +47,8 @@ pub struct Truth {
     room: Vec<BodyPairTruth>,
     /// `[character][object]`, built when first needed.
     objects: Vec<Vec<Option<BodyPairTruth>>>,
+    /// Per character, against itself (empty when the scene does not ask).
+    selves: Vec<SelfTruth>,
     moved: Vec<Point>,
     /// A method's pairs of one body pair, gathered for a detailed score.
     reported: Vec<(u32, u32)>,
@@ -72,6 +81,15 @@ impl Truth {
                 .iter()
                 .map(|_| scene.objects.iter().map(|_| None).collect())
                 .collect(),
+            selves: if scene.self_collision {
+                scene
+                    .characters
+                    .iter()
+                    .map(|a| SelfTruth::new(&a.character.mesh))
+                    .collect::<Result<_, _>>()?
+            } else {
+                Vec::new()
+            },
             moved: Vec::new(),
             reported: Vec::new(),
             exact: WorldPairs::default(),
@@ -94,6 +112,18 @@ impl Truth {
         parry.objects.clear();
         exact.characters.clear();
         parry.characters.clear();
+        exact.self_contact.clear();
+        parry.self_contact.clear();
+        for (i, (t, b)) in self.selves.iter_mut().zip(buffers).enumerate() {
+            t.update(&b.positions)?;
+            let pair = |&(ta, tb): &(u32, u32)| SelfPair {
+                character: CharacterHandle(i as u32),
+                triangle_a: ta,
+                triangle_b: tb,
+            };
+            exact.self_contact.extend(t.exact.iter().map(pair));
+            parry.self_contact.extend(t.parry.iter().map(pair));
+        }
         let boxes: Vec<_> = buffers
             .iter()
             .map(|b| bounds_of(b.positions.iter().copied()))
@@ -164,6 +194,7 @@ impl Truth {
             p.environment.sort_unstable();
             p.objects.sort_unstable();
             p.characters.sort_unstable();
+            p.self_contact.sort_unstable();
         }
         Ok(())
     }
@@ -179,6 +210,10 @@ impl Truth {
             characters: Accuracy::of_sorted(
                 outcome.character_pairs.iter(),
                 self.exact.characters.iter(),
+            ),
+            self_contact: Accuracy::of_sorted(
+                outcome.self_pairs.iter(),
+                self.exact.self_contact.iter(),
             ),
         }
     }
@@ -244,6 +279,9 @@ impl Truth {
                     .iter()
                     .map(|p| kept(p.a.index(), p.triangle_a) && kept(p.b.index(), p.triangle_b)),
             ),
+            self_contact: count(&mut e.self_contact.iter().map(|p| {
+                kept(p.character.index(), p.triangle_a) && kept(p.character.index(), p.triangle_b)
+            })),
         }
     }
 
@@ -258,6 +296,10 @@ impl Truth {
             characters: Accuracy::of_sorted(
                 self.parry.characters.iter(),
                 self.exact.characters.iter(),
+            ),
+            self_contact: Accuracy::of_sorted(
+                self.parry.self_contact.iter(),
+                self.exact.self_contact.iter(),
             ),
         }
     }

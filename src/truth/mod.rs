@@ -7,6 +7,7 @@
 //! | [`parry_world`] | [`ParryWorld`]: the parry3d baseline for a whole world (a `TriMesh` per body, a broad phase over their boxes, BVH leaf pairs, parry's `f32` test) |
 //! | [`disagreement`] | the pairs two answers differ on, each classified as touching, near-degenerate or a true error |
 //! | [`ground_truth`] | [`Truth`]: a frame's truth for one character or many, per pair kind: the exact pairs on parry's broad phase, parry's answer beside it; a method's score per kind, and in detail (false positives with distances, false negatives with causes) per body pair |
+//! | [`self_truth`] | [`self_truth::SelfTruth`]: one character against itself, its posed mesh's BVH against itself, neighbours dropped, the exact oracle and parry's answer |
 //! | [`body_pair`] | [`BodyPairTruth`]: the truth of one body pair, the piece the above is made of |
 //! | [`substep`] | the truth of continuous detection: the exact oracle on dense sub-steps of each frame step |
 //! | [`substep_score`] | a continuous step against it: recall, misses, pairs only continuous detection found, classified by refining around their time of impact |
@@ -31,6 +32,7 @@ pub mod ground_truth;
 pub mod parry_reference;
 pub mod parry_world;
 pub mod ray_reference;
+pub mod self_truth;
 pub mod substep;
 pub mod substep_score;
 

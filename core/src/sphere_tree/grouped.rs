@@ -17,7 +17,9 @@
 
 use super::node::NodeId;
 use super::pass_marks::PassMarks;
-use super::traverse::{AsTested, Hierarchy, LeafPair, TraversalStats, Workspace, traverse_core};
+use super::traverse::{
+    AsTested, Hierarchy, LeafPair, ROOTS, TraversalStats, Workspace, traverse_core,
+};
 use crate::geometry::Sphere;
 
 /// [`traverse_guarded`](super::traverse_guarded) where `group(j)` gives, for
@@ -39,7 +41,18 @@ where
     G: FnMut(NodeId, &Sphere) -> bool,
     F: FnMut(LeafPair),
 {
-    traverse_core(a, b, ws, Some(marks), group, &AsTested, guard, on_leaf_pair)
+    let mut guard = guard;
+    traverse_core(
+        a,
+        b,
+        ws,
+        ROOTS,
+        Some(marks),
+        group,
+        &AsTested,
+        |_, j, s| guard(j, s),
+        on_leaf_pair,
+    )
 }
 
 #[cfg(test)]

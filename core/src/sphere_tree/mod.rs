@@ -13,6 +13,8 @@
 //! | [`swept_rigid`] | swept spheres of a rigid body's tree over a step (its chord and its rotation) |
 //! | [`traverse`](mod@traverse) | simultaneous traversal of two trees with a reusable [`Workspace`] |
 //! | `pass_marks` | per index, the last key met in a pass (no clearing between passes) |
+//! | [`self_traverse`] | one tree against itself: each pair of overlapping leaves once, by the traversal above started at pairs of siblings |
+//! | [`self_contact`] | what a character's self pass knows from its skinning: welded corners (the neighbour rule), parts one joint moves, their rest gaps |
 //! | `grouped` | the same, descending each sphere once per group of leaves (a big triangle's division) |
 //!
 //! Invariants (checked by [`SphereTree::validate`]): node 0 is the root; the
@@ -31,6 +33,8 @@ pub(crate) mod pass_marks;
 pub mod refit;
 mod refit_ahead;
 mod refit_rules;
+pub mod self_contact;
+pub mod self_traverse;
 pub mod swept;
 pub mod swept_rigid;
 pub mod traverse;

@@ -55,9 +55,12 @@ impl Hierarchy for SphereTree {
 /// Scratch space kept between queries.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    stack: Vec<(NodeId, NodeId)>,
+    pub(super) stack: Vec<(NodeId, NodeId)>,
     /// Each stacked pair's key, for an ordered traversal ([`Order`]) only.
     keys: Vec<f32>,
+    /// The nodes still to walk of a tree traversed against itself
+    /// ([`super::self_traverse`]).
+    pub(super) nodes: Vec<NodeId>,
 }
 
 impl Workspace {
@@ -88,6 +91,8 @@ impl Workspace {
 
     /// Makes room for twice the deepest stack seen so far.
     pub fn reserve_headroom(&mut self) {
+        let nodes = 2 * self.nodes.capacity();
+        self.nodes.reserve(nodes.saturating_sub(self.nodes.len()));
         let want = 2 * self.stack.capacity();
         self.stack.reserve(want.saturating_sub(self.stack.len()));
         if self.keys.capacity() > 0 {
@@ -154,8 +159,22 @@ where
     G: FnMut(NodeId, &crate::geometry::Sphere) -> bool,
     F: FnMut(LeafPair),
 {
-    traverse_core(a, b, ws, None, |_| None, &AsTested, guard, on_leaf_pair)
+    let mut guard = guard;
+    traverse_core(
+        a,
+        b,
+        ws,
+        ROOTS,
+        None,
+        |_| None,
+        &AsTested,
+        |_, j, s| guard(j, s),
+        on_leaf_pair,
+    )
 }
+
+/// Both roots: where a traversal of two whole trees starts.
+pub(crate) const ROOTS: (NodeId, NodeId) = (NodeId::ROOT, NodeId::ROOT);
 
 /// The order in which a traversal opens the pairs pushed at one node, and
 /// whether a pair is still worth opening when its turn comes: a ray's
@@ -205,7 +224,18 @@ where
     G: FnMut(NodeId, &crate::geometry::Sphere) -> bool,
     F: FnMut(LeafPair),
 {
-    traverse_core(a, b, ws, None, |_| None, order, guard, on_leaf_pair)
+    let mut guard = guard;
+    traverse_core(
+        a,
+        b,
+        ws,
+        ROOTS,
+        None,
+        |_| None,
+        order,
+        |_, j, s| guard(j, s),
+        on_leaf_pair,
+    )
 }
 
 /// Sorts the pairs stacked from `from` on by key, largest first (so the
@@ -225,16 +255,20 @@ fn sort_pushed(ws: &mut Workspace, from: usize) {
     }
 }
 
-/// The traversal behind [`traverse_guarded`] and
-/// [`super::grouped::traverse_grouped`]: with `marks`, a leaf `j` of `b`
-/// for which `group(j)` names a group descends each sphere of `a` once per
-/// group, against the group's sphere (see [`super::grouped`]); without, no
-/// leaf is grouped.
+/// The traversal behind [`traverse_guarded`],
+/// [`super::grouped::traverse_grouped`] and
+/// [`super::self_traverse::traverse_self`], from the pair `start` (node
+/// `start.0` of `a`, `start.1` of `b`; [`ROOTS`] for two whole trees): with
+/// `marks`, a leaf `j` of `b` for which `group(j)` names a group descends
+/// each sphere of `a` once per group, against the group's sphere (see
+/// [`super::grouped`]); without, no leaf is grouped. `guard(i, j, s)` is
+/// asked of every pair `(i, j)` pushed, with `s` the sphere of `i`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn traverse_core<A, B, K, O, G, F>(
     a: &mut A,
     b: &mut B,
     ws: &mut Workspace,
+    start: (NodeId, NodeId),
     mut marks: Option<&mut PassMarks>,
     mut group: K,
     order: &O,
@@ -246,7 +280,7 @@ where
     B: Hierarchy + ?Sized,
     K: FnMut(NodeId) -> Option<(u32, Sphere)>,
     O: Order,
-    G: FnMut(NodeId, &Sphere) -> bool,
+    G: FnMut(NodeId, NodeId, &Sphere) -> bool,
     F: FnMut(LeafPair),
 {
     let mut stats = TraversalStats::default();
@@ -259,10 +293,10 @@ where
     ws.stack.clear();
     ws.keys.clear();
     stats.sphere_tests += 1;
-    a.tested(NodeId::ROOT);
-    b.tested(NodeId::ROOT);
-    if a.sphere(NodeId::ROOT).overlaps(&b.sphere(NodeId::ROOT)) {
-        ws.stack.push((NodeId::ROOT, NodeId::ROOT));
+    a.tested(start.0);
+    b.tested(start.1);
+    if a.sphere(start.0).overlaps(&b.sphere(start.1)) {
+        ws.stack.push(start);
         if O::ORDERED {
             ws.keys.push(f32::NEG_INFINITY);
         }
@@ -302,7 +336,7 @@ where
                         a.tested(NodeId(c));
                         b.tested(j);
                         let sc = a.sphere(NodeId(c));
-                        if sc.overlaps(&sb) && guard(j, &sc) {
+                        if sc.overlaps(&sb) && guard(NodeId(c), j, &sc) {
                             ws.stack.push((NodeId(c), j));
                             if O::ORDERED {
                                 ws.keys.push(order.key(&sc));
@@ -316,7 +350,7 @@ where
                         a.tested(i);
                         b.tested(NodeId(c));
                         let sc = b.sphere(NodeId(c));
-                        if sa.overlaps(&sc) && guard(NodeId(c), &sa) {
+                        if sa.overlaps(&sc) && guard(i, NodeId(c), &sa) {
                             ws.stack.push((i, NodeId(c)));
                             if O::ORDERED {
                                 ws.keys.push(order.key(&sa));

@@ -21,6 +21,7 @@ use crate::pipeline::visit_log::TestedNodes;
 use crate::pipeline::{Method, SweepState};
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::RefitState;
+use crate::sphere_tree::self_contact::{RigidGaps, SelfContactData};
 
 use super::character_model::CharacterModel;
 use super::contacts::{Contacts, Detection, ObjectPair, Timed};
@@ -61,6 +62,8 @@ pub(crate) struct OwnPasses {
     pub(crate) rooms: FrameCounters,
     /// Against the objects, root tests of the broad phase included.
     pub(crate) objects: FrameCounters,
+    /// Against itself.
+    pub(crate) itself: FrameCounters,
     pub(crate) broad_phase_tests: u64,
     pub(crate) body_pairs: u64,
     pub(crate) ccd: CcdCounters,
@@ -74,6 +77,7 @@ impl OwnPasses {
     pub(crate) fn add_to<D: Detection>(&self, out: &mut Contacts<D>) {
         out.by_kind.environment.add(&self.rooms);
         out.by_kind.objects.add(&self.objects);
+        out.by_kind.self_contact.add(&self.itself);
         out.by_kind.objects.sphere_sphere += self.broad_phase_tests;
         out.broad_phase_tests += self.broad_phase_tests;
         out.body_pairs += self.body_pairs;
@@ -118,6 +122,12 @@ pub(crate) struct CharacterBody {
     pub(crate) object_hits: Vec<(u32, u32)>,
     /// This step's object contacts.
     pub(crate) object_pairs: Vec<ObjectPair>,
+    /// What its self pass knows (worlds that detect self-contact).
+    pub(crate) self_data: Option<Arc<SelfContactData>>,
+    /// Its self pass's working memory and contacts this step.
+    pub(crate) self_slot: PassSlot<(u32, u32)>,
+    /// Its self pass's gaps per joint this step.
+    pub(crate) self_gaps: RigidGaps,
     pub(crate) own: OwnPasses,
     /// Continuous detection's state, when on.
     pub(crate) sweep: Option<Box<CharacterSweep>>,
@@ -177,6 +187,9 @@ impl CharacterBody {
             visits: None,
             object_hits: Vec::new(),
             object_pairs: Vec::new(),
+            self_data: None,
+            self_slot: PassSlot::default(),
+            self_gaps: RigidGaps::default(),
             own: OwnPasses::default(),
             sweep: None,
             frame_of_pose: false,

@@ -16,6 +16,7 @@ use crate::pipeline::{DEFAULT_THRESHOLD, EnvironmentTree, Method, SweepState};
 use crate::sphere_tree::BuildParams;
 use crate::sphere_tree::character::CharacterTree;
 use crate::sphere_tree::refit::RefitState;
+use crate::sphere_tree::self_contact::SelfContactData;
 use crate::sphere_tree::traverse::LeafPair;
 
 use super::bodies::{CharacterBody, PassSlot, RigidBody};
@@ -41,6 +42,15 @@ pub struct WorldSettings {
     /// Whether each pass splits its refit time from its traversal time (two
     /// time-stamp reads per refit).
     pub time_refit: bool,
+    /// Whether each character is also tested against itself (pair kind
+    /// `self`: triangles sharing a corner are never a contact). Its data
+    /// (welds, the joint moving each node, rest distances) is computed
+    /// once per character model when it is added.
+    pub self_collision: bool,
+    /// Whether the self pass skips parts one joint moves that lie apart at
+    /// rest (exact: `sphere_tree::self_contact`); off only to measure what
+    /// that saves.
+    pub self_rigid_culling: bool,
 }
 
 impl Default for WorldSettings {
@@ -49,6 +59,8 @@ impl Default for WorldSettings {
             threshold: DEFAULT_THRESHOLD,
             build: BuildParams::default(),
             time_refit: true,
+            self_collision: false,
+            self_rigid_culling: true,
         }
     }
 }
@@ -324,21 +336,27 @@ impl CollisionWorld {
         let m = self.method;
         let shared = self.characters.iter_mut().find_map(|c| {
             let c = c.get_mut().expect("no pass panicked");
-            Arc::ptr_eq(&c.model, &model).then(|| c.tree.clone())
+            Arc::ptr_eq(&c.model, &model).then(|| (c.tree.clone(), c.self_data.clone()))
         });
-        let tree = shared.unwrap_or_else(|| {
-            Arc::new(CharacterTree::build_with_rule(
+        let (tree, self_data) = shared.unwrap_or_else(|| {
+            let tree = Arc::new(CharacterTree::build_with_rule(
                 model.character(),
                 model.kept(),
                 model.skinning(),
                 m.character_build(self.settings.build),
                 m.refit_rule(),
-            ))
+            ));
+            let data = self
+                .settings
+                .self_collision
+                .then(|| Arc::new(SelfContactData::new(model.character(), &tree)));
+            (tree, data)
         });
         let handle = CharacterHandle(self.characters.len() as u32);
         self.lent
             .fit(model.character().mesh.triangle_count(), tree.tree.len());
         let mut body = CharacterBody::new(handle, model, m, tree);
+        body.self_data = self_data;
         body.rooms = self.rooms.iter().map(|_| PassSlot::default()).collect();
         if self.visit_logs {
             body.visits = Some(self.room_logs());

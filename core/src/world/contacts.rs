@@ -1,6 +1,7 @@
 //! What one step of a world found and cost: the colliding triangle pairs of
-//! every kind (character–room, character–object, character–character), by
-//! handle, and the counters per kind and in total.
+//! every kind (character–room, character–object, character–character, a
+//! character against itself), by handle, and the counters per kind and in
+//! total.
 //!
 //! Discrete steps ([`CollisionWorld::step`](super::CollisionWorld::step))
 //! give [`StepContacts`]; continuous steps over a frame step
@@ -26,14 +27,19 @@ pub enum PairKind {
     Objects,
     /// Two characters.
     Characters,
+    /// A character against itself (worlds with
+    /// [`WorldSettings::self_collision`](super::WorldSettings::self_collision)).
+    #[cfg_attr(feature = "serde", serde(rename = "self"))]
+    SelfContact,
 }
 
 impl PairKind {
     /// Every kind, in report order.
-    pub const ALL: [PairKind; 3] = [
+    pub const ALL: [PairKind; 4] = [
         PairKind::Environment,
         PairKind::Objects,
         PairKind::Characters,
+        PairKind::SelfContact,
     ];
 
     /// The kind's name in reports.
@@ -42,6 +48,7 @@ impl PairKind {
             PairKind::Environment => "environment",
             PairKind::Objects => "objects",
             PairKind::Characters => "characters",
+            PairKind::SelfContact => "self",
         }
     }
 }
@@ -56,6 +63,9 @@ pub struct ByKind<T> {
     pub objects: T,
     /// Characters against characters.
     pub characters: T,
+    /// Each character against itself (named `self` in reports).
+    #[cfg_attr(feature = "serde", serde(rename = "self"))]
+    pub self_contact: T,
 }
 
 impl<T> ByKind<T> {
@@ -65,6 +75,7 @@ impl<T> ByKind<T> {
             PairKind::Environment => &self.environment,
             PairKind::Objects => &self.objects,
             PairKind::Characters => &self.characters,
+            PairKind::SelfContact => &self.self_contact,
         }
     }
 
@@ -74,6 +85,7 @@ impl<T> ByKind<T> {
             PairKind::Environment => &mut self.environment,
             PairKind::Objects => &mut self.objects,
             PairKind::Characters => &mut self.characters,
+            PairKind::SelfContact => &mut self.self_contact,
         }
     }
 }
@@ -117,6 +129,19 @@ pub struct CharacterPair {
     /// The second character.
     pub b: CharacterHandle,
     /// Its triangle.
+    pub triangle_b: u32,
+}
+
+/// Two triangles of one character touching, neither sharing a corner
+/// with the other (`triangle_a < triangle_b`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize))]
+pub struct SelfPair {
+    /// The character.
+    pub character: CharacterHandle,
+    /// The lower triangle index.
+    pub triangle_a: u32,
+    /// The higher.
     pub triangle_b: u32,
 }
 
@@ -211,6 +236,9 @@ pub struct Contacts<D: Detection> {
     pub object_pairs: Vec<D::Pair<ObjectPair>>,
     /// Character–character contacts, sorted.
     pub character_pairs: Vec<D::Pair<CharacterPair>>,
+    /// Each character's contacts with itself, sorted (empty unless the
+    /// world detects them).
+    pub self_pairs: Vec<D::Pair<SelfPair>>,
 }
 
 impl<D: Detection> Default for Contacts<D> {
@@ -227,6 +255,7 @@ impl<D: Detection> Default for Contacts<D> {
             room_pairs: Vec::new(),
             object_pairs: Vec::new(),
             character_pairs: Vec::new(),
+            self_pairs: Vec::new(),
         }
     }
 }
@@ -270,6 +299,17 @@ impl<D: Detection> Contacts<D> {
         })
     }
 
+    /// Character `c`'s contacts with itself (a slice of the sorted list).
+    pub fn self_contacts_of(&self, c: CharacterHandle) -> &[D::Pair<SelfPair>] {
+        let lo = self
+            .self_pairs
+            .partition_point(|p| D::pair(p).character < c);
+        let hi = self
+            .self_pairs
+            .partition_point(|p| D::pair(p).character <= c);
+        &self.self_pairs[lo..hi]
+    }
+
     /// [`Self::work_ms`] over [`Self::span_ms`]: how many threads the step
     /// could keep busy (0 when not measured).
     pub fn available_parallelism(&self) -> f64 {
@@ -282,7 +322,10 @@ impl<D: Detection> Contacts<D> {
 
     /// Contacts of every kind.
     pub fn len(&self) -> usize {
-        self.room_pairs.len() + self.object_pairs.len() + self.character_pairs.len()
+        self.room_pairs.len()
+            + self.object_pairs.len()
+            + self.character_pairs.len()
+            + self.self_pairs.len()
     }
 
     /// Whether no pair of any kind touches.
@@ -315,6 +358,7 @@ impl<D: Detection> Contacts<D> {
         self.room_pairs.clear();
         self.object_pairs.clear();
         self.character_pairs.clear();
+        self.self_pairs.clear();
     }
 }
 
@@ -326,6 +370,7 @@ impl SweepContacts {
             .map(|p| p.toi)
             .chain(self.object_pairs.iter().map(|p| p.toi))
             .chain(self.character_pairs.iter().map(|p| p.toi))
+            .chain(self.self_pairs.iter().map(|p| p.toi))
             .min_by(f64::total_cmp)
     }
 }

@@ -37,7 +37,7 @@ mod sweep;
 pub use character_model::CharacterModel;
 pub use collision_world::{CharacterView, CollisionWorld, WorldSettings};
 pub use contacts::{
-    ByKind, CharacterPair, Contacts, Detection, Discrete, ObjectPair, PairKind, RoomPair,
+    ByKind, CharacterPair, Contacts, Detection, Discrete, ObjectPair, PairKind, RoomPair, SelfPair,
     StepContacts, SweepContacts, Swept, Timed,
 };
 pub use error::WorldError;

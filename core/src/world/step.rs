@@ -36,12 +36,13 @@ use crate::pipeline::character_side::CharacterSide;
 use crate::pipeline::pair_pass::PairPass;
 use crate::pipeline::pass::run;
 use crate::pipeline::rigid_pass::RigidPass;
+use crate::pipeline::self_pass::SelfPass;
 use crate::pipeline::visit_log::NoLog;
 use crate::sphere_tree::NodeId;
 
 use super::bodies::{CharacterBody, RigidBody};
 use super::collision_world::{CollisionWorld, PairState};
-use super::contacts::{CharacterPair, ObjectPair, RoomPair, StepContacts};
+use super::contacts::{CharacterPair, ObjectPair, RoomPair, SelfPair, StepContacts};
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 
 impl CollisionWorld {
@@ -99,12 +100,22 @@ impl CollisionWorld {
             ..
         } = self;
         let (method, timed) = (*method, settings.time_refit);
+        let cull_rigid = settings.self_rigid_culling;
         graph.run(|t, pair| match pair {
             // A pass holds its characters alone: these locks are never
             // contended.
             None => {
                 let mut c = characters[t].lock().expect("no pass panicked");
-                lent.with(|l| own_passes(&mut c, l, method, timed, rooms, objects, object_roots));
+                lent.with(|l| {
+                    own_passes(
+                        &mut c,
+                        l,
+                        (method, timed, cull_rigid),
+                        rooms,
+                        objects,
+                        object_roots,
+                    )
+                });
             }
             Some((i, j)) => {
                 let mut s = pairs[t - n].lock().expect("no pass panicked");
@@ -173,6 +184,12 @@ impl CollisionWorld {
             skinned += s;
             c.own.add_to(out);
             out.object_pairs.extend_from_slice(&c.object_pairs);
+            out.self_pairs
+                .extend(c.self_slot.hits.iter().map(|&(ta, tb)| SelfPair {
+                    character: CharacterHandle(i as u32),
+                    triangle_a: ta,
+                    triangle_b: tb,
+                }));
             for (r, slot) in c.rooms.iter().enumerate() {
                 out.room_pairs
                     .extend(slot.hits.iter().map(|&(t, rt)| RoomPair {
@@ -198,6 +215,7 @@ impl CollisionWorld {
         out.room_pairs.sort_unstable();
         out.object_pairs.sort_unstable();
         out.character_pairs.sort_unstable();
+        out.self_pairs.sort_unstable();
         out.sum_kinds(refits, skinned);
     }
 }
@@ -234,13 +252,14 @@ pub(crate) fn side(c: &mut CharacterBody) -> CharacterSide<'_> {
 }
 
 /// Character `i`'s own passes: against every room (its frame start's refits
-/// and refit ahead counted with them), then against every object whose root
-/// sphere its root sphere meets.
+/// and refit ahead counted with them), against itself when the world asks,
+/// then against every object whose root sphere its root sphere meets.
+/// `how`: the method, whether refits are timed, whether the self pass
+/// skips parts one joint moves.
 fn own_passes(
     c: &mut CharacterBody,
     lent: &mut super::pass_pool::Lent,
-    method: crate::pipeline::Method,
-    timed: bool,
+    (method, timed, cull_rigid): (crate::pipeline::Method, bool, bool),
     rooms: &[RigidBody],
     objects: &[RigidBody],
     object_roots: &[Option<Sphere>],
@@ -277,6 +296,9 @@ fn own_passes(
         object_hits,
         object_pairs,
         own,
+        self_data,
+        self_slot,
+        self_gaps,
         ..
     } = c;
     let super::pass_pool::Lent { marks, scratch } = lent;
@@ -308,6 +330,18 @@ fn own_passes(
         counters.add(&c);
     }
     own.rooms = counters;
+    own.itself = FrameCounters::default();
+    self_slot.hits.clear();
+    if let Some(data) = self_data.as_deref() {
+        let mut pass = SelfPass {
+            side: character.reborrow(),
+            data,
+            gaps: self_gaps,
+            cull_rigid,
+            timed,
+        };
+        own.itself = run(&mut pass, &mut self_slot.scratch, &mut self_slot.hits);
+    }
     own.objects = FrameCounters::default();
     own.broad_phase_tests = 0;
     own.body_pairs = 0;
