@@ -121,6 +121,7 @@ fn same_pairs(o: &StepContacts, parry: &ParryWorld) -> bool {
     o.room_pairs == parry.pairs.environment
         && o.object_pairs == parry.pairs.objects
         && o.character_pairs == parry.pairs.characters
+        && o.self_pairs == parry.pairs.self_contact
 }
 
 /// Errors of a measurement.

@@ -142,6 +142,8 @@ pub struct KindRecord {
     pub plane_sphere: u64,
     pub operations: u64,
     pub pairs: u64,
+    /// Milliseconds of the kind's passes (CPU time summed over them).
+    pub time_ms: f64,
 }
 
 impl KindRecord {
@@ -152,6 +154,7 @@ impl KindRecord {
             plane_sphere: c.plane_sphere,
             operations: c.operations(),
             pairs: c.pairs,
+            time_ms: c.time.total_ms(),
         }
     }
 }

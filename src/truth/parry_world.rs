@@ -14,6 +14,10 @@
 //! * For each body pair whose boxes overlap, `Bvh::leaf_pairs` gives the
 //!   candidate triangle pairs and parry's `f32` `intersection_test`
 //!   ([`parry_triangles_intersect`]) decides each.
+//! * Scenes with `self_collision`: each character's BVH against itself,
+//!   pairs sharing a welded corner dropped
+//!   ([`self_leaf_pairs`](super::self_truth::self_leaf_pairs)), the same
+//!   test.
 //!
 //! parry offers no parallel traversal of its own. On one thread it is
 //! [`ParryWorld::update`] and [`ParryWorld::detect`]; on the caller's rayon
@@ -31,12 +35,13 @@ use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 use super::TruthError;
 use super::ground_truth::WorldPairs;
 use super::parry_reference::parry_triangles_intersect;
+use super::self_truth::{self_leaf_pairs, welded_corners};
 use crate::scenario::Resolved;
 use cornertree::character::PoseBuffers;
 use cornertree::geometry::Point;
 use cornertree::mesh::TriMesh;
 use cornertree::world::{
-    CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
+    CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair, SelfPair,
 };
 
 pub(crate) fn to_parry(p: &Point) -> PVector {
@@ -54,6 +59,9 @@ pub struct ParryWorld {
     objects: Vec<ParryMesh>,
     object_rest: Vec<Vec<Point>>,
     character_indices: Vec<Vec<[u32; 3]>>,
+    /// Per character, its triangles' welded corners, when the scene tests
+    /// characters against themselves (empty otherwise).
+    welded: Vec<Vec<[u32; 3]>>,
     /// Built on the first [`ParryWorld::update`].
     characters: Vec<Option<ParryMesh>>,
     /// This frame's pairs (parry's `f32` triangle test), sorted.
@@ -84,6 +92,15 @@ impl ParryWorld {
                 .iter()
                 .map(|a| a.character.mesh.indices().to_vec())
                 .collect(),
+            welded: if scene.self_collision {
+                scene
+                    .characters
+                    .iter()
+                    .map(|a| welded_corners(&a.character.mesh))
+                    .collect()
+            } else {
+                Vec::new()
+            },
             characters: scene.characters.iter().map(|_| None).collect(),
             pairs: WorldPairs::default(),
             candidates: 0,
@@ -148,6 +165,7 @@ impl ParryWorld {
         found.pairs.environment.clear();
         found.pairs.objects.clear();
         found.pairs.characters.clear();
+        found.pairs.self_contact.clear();
         for i in 0..self.characters.len() {
             self.detect_character(i, &mut found);
         }
@@ -187,10 +205,11 @@ impl ParryWorld {
         p.objects.dedup();
         p.characters.sort_unstable();
         p.characters.dedup();
+        p.self_contact.sort_unstable();
     }
 
-    /// Character `i` against the room, every object and every character
-    /// after it, into `out`.
+    /// Character `i` against the room, itself (when the scene asks), every
+    /// object and every character after it, into `out`.
     fn detect_character(&self, i: usize, out: &mut Found) {
         let Self {
             room,
@@ -215,6 +234,17 @@ impl ParryWorld {
                 room_triangle: rt,
             })
         });
+        if let Some(welded) = self.welded.get(i) {
+            *candidates += self_leaf_pairs(c, welded, |ta, tb| {
+                if parry_triangles_intersect(&c.triangle(ta), &c.triangle(tb)) {
+                    pairs.self_contact.push(SelfPair {
+                        character: h,
+                        triangle_a: ta,
+                        triangle_b: tb,
+                    });
+                }
+            });
+        }
         for (o, obj) in objects.iter().enumerate() {
             if cbox.intersects(&obj.local_aabb()) {
                 *body_pairs += 1;
@@ -303,6 +333,7 @@ impl Found {
         self.pairs.environment.extend(other.pairs.environment);
         self.pairs.objects.extend(other.pairs.objects);
         self.pairs.characters.extend(other.pairs.characters);
+        self.pairs.self_contact.extend(other.pairs.self_contact);
         self.candidates += other.candidates;
         self.body_pairs += other.body_pairs;
         self

@@ -26,7 +26,7 @@ pub struct SelfTruth {
     /// Each triangle's corners, welded.
     welded: Vec<[u32; 3]>,
     mesh: Option<ParryMesh>,
-    candidates: usize,
+    candidates: u64,
     /// Exactly touching pairs `(a, b)`, `a < b`, sorted: the truth.
     pub exact: Vec<(u32, u32)>,
     /// parry's touching pairs (its `f64` test), sorted.
@@ -40,14 +40,9 @@ impl SelfTruth {
         if mesh.triangle_count() == 0 {
             return Err(TruthError::NoTriangles("character"));
         }
-        let weld = weld_positions(mesh);
         Ok(Self {
             indices: mesh.indices().to_vec(),
-            welded: mesh
-                .indices()
-                .iter()
-                .map(|t| t.map(|v| weld[v as usize]))
-                .collect(),
+            welded: welded_corners(mesh),
             mesh: None,
             candidates: 0,
             exact: Vec::new(),
@@ -130,32 +125,54 @@ impl SelfTruth {
     ) {
         out.clear();
         let Some(mesh) = &self.mesh else { return };
-        let welded = &self.welded;
-        let overlap = |a: &BvhNode, b: &BvhNode| a.intersects(b);
-        let mut candidates = 0;
-        for (a, b) in mesh.bvh().leaf_pairs(mesh.bvh(), overlap) {
-            // Each unordered pair comes both ways: keep one.
-            if a >= b {
-                continue;
-            }
-            let (wa, wb) = (&welded[a as usize], &welded[b as usize]);
-            if wa.iter().any(|v| wb.contains(v)) {
-                continue;
-            }
-            candidates += 1;
+        self.candidates = self_leaf_pairs(mesh, &self.welded, |a, b| {
             if meets(&mesh.triangle(a), &mesh.triangle(b)) {
                 out.push((a, b));
             }
-        }
-        self.candidates = candidates;
+        });
         out.sort_unstable();
         out.dedup();
     }
 
     /// Non-neighbouring candidate pairs of the last collection.
-    pub fn candidates(&self) -> usize {
+    pub fn candidates(&self) -> u64 {
         self.candidates
     }
+}
+
+/// Each triangle's corners of `mesh`, welded (equal positions, one id).
+pub fn welded_corners(mesh: &TriMesh) -> Vec<[u32; 3]> {
+    let weld = weld_positions(mesh);
+    mesh.indices()
+        .iter()
+        .map(|t| t.map(|v| weld[v as usize]))
+        .collect()
+}
+
+/// The candidates of a parry mesh against itself: its BVH's leaf pairs
+/// against itself, each unordered pair once (`a < b`), pairs sharing a
+/// welded corner (`welded`) dropped, each handed to `each`; returns how
+/// many were.
+pub fn self_leaf_pairs(
+    mesh: &ParryMesh,
+    welded: &[[u32; 3]],
+    mut each: impl FnMut(u32, u32),
+) -> u64 {
+    let overlap = |a: &BvhNode, b: &BvhNode| a.intersects(b);
+    let mut candidates = 0;
+    for (a, b) in mesh.bvh().leaf_pairs(mesh.bvh(), overlap) {
+        // Each unordered pair comes both ways: keep one.
+        if a >= b {
+            continue;
+        }
+        let (wa, wb) = (&welded[a as usize], &welded[b as usize]);
+        if wa.iter().any(|v| wb.contains(v)) {
+            continue;
+        }
+        candidates += 1;
+        each(a, b);
+    }
+    candidates
 }
 
 fn from_parry(t: &ParryTriangle) -> Triangle {

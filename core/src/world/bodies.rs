@@ -122,12 +122,9 @@ pub(crate) struct CharacterBody {
     pub(crate) object_hits: Vec<(u32, u32)>,
     /// This step's object contacts.
     pub(crate) object_pairs: Vec<ObjectPair>,
-    /// What its self pass knows (worlds that detect self-contact).
-    pub(crate) self_data: Option<Arc<SelfContactData>>,
-    /// Its self pass's working memory and contacts this step.
-    pub(crate) self_slot: PassSlot<(u32, u32)>,
-    /// Its self pass's gaps per joint this step.
-    pub(crate) self_gaps: RigidGaps,
+    /// Its self pass, in worlds that detect self-contact (none otherwise:
+    /// an instance pays nothing for it).
+    pub(crate) itself: Option<Box<SelfState>>,
     pub(crate) own: OwnPasses,
     /// Continuous detection's state, when on.
     pub(crate) sweep: Option<Box<CharacterSweep>>,
@@ -140,6 +137,25 @@ pub(crate) struct CharacterBody {
     /// Spheres refit and vertices skinned in the frame before the step
     /// began (by queries): not the step's work.
     pub(crate) before_step: (u64, u64),
+}
+
+/// A character's self pass: what it knows of the character model (shared
+/// by its instances), its working memory and contacts this step, and this
+/// step's gaps per joint.
+pub(crate) struct SelfState {
+    pub(crate) data: Arc<SelfContactData>,
+    pub(crate) slot: PassSlot<(u32, u32)>,
+    pub(crate) gaps: RigidGaps,
+}
+
+impl SelfState {
+    pub(crate) fn new(data: Arc<SelfContactData>) -> Self {
+        Self {
+            data,
+            slot: PassSlot::default(),
+            gaps: RigidGaps::default(),
+        }
+    }
 }
 
 /// A character's continuous state: its refit and skinning at both ends of
@@ -187,9 +203,7 @@ impl CharacterBody {
             visits: None,
             object_hits: Vec::new(),
             object_pairs: Vec::new(),
-            self_data: None,
-            self_slot: PassSlot::default(),
-            self_gaps: RigidGaps::default(),
+            itself: None,
             own: OwnPasses::default(),
             sweep: None,
             frame_of_pose: false,

@@ -19,7 +19,7 @@ use crate::sphere_tree::refit::RefitState;
 use crate::sphere_tree::self_contact::SelfContactData;
 use crate::sphere_tree::traverse::LeafPair;
 
-use super::bodies::{CharacterBody, PassSlot, RigidBody};
+use super::bodies::{CharacterBody, PassSlot, RigidBody, SelfState};
 use super::broad_phase::SortAndSweep;
 use super::character_model::CharacterModel;
 use super::contacts::StepContacts;
@@ -336,7 +336,8 @@ impl CollisionWorld {
         let m = self.method;
         let shared = self.characters.iter_mut().find_map(|c| {
             let c = c.get_mut().expect("no pass panicked");
-            Arc::ptr_eq(&c.model, &model).then(|| (c.tree.clone(), c.self_data.clone()))
+            let data = c.itself.as_ref().map(|s| s.data.clone());
+            Arc::ptr_eq(&c.model, &model).then(|| (c.tree.clone(), data))
         });
         let (tree, self_data) = shared.unwrap_or_else(|| {
             let tree = Arc::new(CharacterTree::build_with_rule(
@@ -356,7 +357,7 @@ impl CollisionWorld {
         self.lent
             .fit(model.character().mesh.triangle_count(), tree.tree.len());
         let mut body = CharacterBody::new(handle, model, m, tree);
-        body.self_data = self_data;
+        body.itself = self_data.map(|d| Box::new(SelfState::new(d)));
         body.rooms = self.rooms.iter().map(|_| PassSlot::default()).collect();
         if self.visit_logs {
             body.visits = Some(self.room_logs());
@@ -500,8 +501,9 @@ impl CollisionWorld {
             .collect()
     }
 
-    /// Bytes of every hierarchy: each character's tree, each room's and each
-    /// object's (the "Data" row of the paper's Tables 2–3).
+    /// Bytes of every hierarchy: each character's tree (and its self-contact
+    /// data, in worlds that test characters against themselves), each
+    /// room's and each object's (the "Data" row of the paper's Tables 2–3).
     pub fn hierarchy_bytes(&self) -> usize {
         let rigid: usize = self
             .rooms
@@ -512,7 +514,10 @@ impl CollisionWorld {
         let characters: usize = self
             .characters
             .iter()
-            .map(|c| c.lock().expect("no pass panicked").tree.tree.bytes())
+            .map(|c| {
+                let c = c.lock().expect("no pass panicked");
+                c.tree.tree.bytes() + c.itself.as_ref().map_or(0, |s| s.data.bytes())
+            })
             .sum();
         rigid + characters
     }

@@ -184,12 +184,14 @@ impl CollisionWorld {
             skinned += s;
             c.own.add_to(out);
             out.object_pairs.extend_from_slice(&c.object_pairs);
-            out.self_pairs
-                .extend(c.self_slot.hits.iter().map(|&(ta, tb)| SelfPair {
-                    character: CharacterHandle(i as u32),
-                    triangle_a: ta,
-                    triangle_b: tb,
-                }));
+            if let Some(s) = &c.itself {
+                out.self_pairs
+                    .extend(s.slot.hits.iter().map(|&(ta, tb)| SelfPair {
+                        character: CharacterHandle(i as u32),
+                        triangle_a: ta,
+                        triangle_b: tb,
+                    }));
+            }
             for (r, slot) in c.rooms.iter().enumerate() {
                 out.room_pairs
                     .extend(slot.hits.iter().map(|&(t, rt)| RoomPair {
@@ -296,9 +298,7 @@ fn own_passes(
         object_hits,
         object_pairs,
         own,
-        self_data,
-        self_slot,
-        self_gaps,
+        itself,
         ..
     } = c;
     let super::pass_pool::Lent { marks, scratch } = lent;
@@ -331,16 +331,15 @@ fn own_passes(
     }
     own.rooms = counters;
     own.itself = FrameCounters::default();
-    self_slot.hits.clear();
-    if let Some(data) = self_data.as_deref() {
+    if let Some(s) = itself.as_deref_mut() {
         let mut pass = SelfPass {
             side: character.reborrow(),
-            data,
-            gaps: self_gaps,
+            data: &s.data,
+            gaps: &mut s.gaps,
             cull_rigid,
             timed,
         };
-        own.itself = run(&mut pass, &mut self_slot.scratch, &mut self_slot.hits);
+        own.itself = run(&mut pass, &mut s.slot.scratch, &mut s.slot.hits);
     }
     own.objects = FrameCounters::default();
     own.broad_phase_tests = 0;
