@@ -902,6 +902,7 @@ fn clips(s: &Skeleton, seed: u64) -> Result<Vec<Clip>, ChannelError> {
         hand_to_hip(s, &mut rng)?,
         arms_crossed(s, &mut rng)?,
         squat(s, &mut rng)?,
+        swing_through(s, &mut rng)?,
     ])
 }
 
@@ -1141,4 +1142,20 @@ fn squat(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
         ));
     }
     Clip::new("squat".into(), ch, s.len())
+}
+
+/// The right arm raised forward to the horizontal, then swept sideways
+/// through the chest and out at the back within half a second (no body
+/// would, a bad blend of clips can), then held there.
+fn swing_through(s: &Skeleton, rng: &mut SplitMix) -> Result<Clip, ChannelError> {
+    let end = 1.0 * rng.factor(0.05);
+    let times = key_times(end);
+    let raise = move |t: f32| smoothstep((t / (0.3 * end)).min(1.0));
+    // Positive yaw turns a right arm pointing forward (+Z) towards +X,
+    // across the body.
+    let sweep = move |t: f32| smoothstep(((t - 0.35 * end) / (0.5 * end)).clamp(0.0, 1.0));
+    let ch = vec![rotation_channel(s, "upper_arm_r", &times, |t| {
+        rot(-1.5 * raise(t), -0.6 + 3.0 * sweep(t), 0.0)
+    })];
+    Clip::new("swing-through".into(), ch, s.len())
 }

@@ -139,6 +139,7 @@ fn discrete_pairs(o: &StepContacts, out: &mut Vec<StepPair>) {
     out.extend(o.room_pairs.iter().map(|&p| StepPair::Environment(p)));
     out.extend(o.object_pairs.iter().map(|&p| StepPair::Objects(p)));
     out.extend(o.character_pairs.iter().map(|&p| StepPair::Characters(p)));
+    out.extend(o.self_pairs.iter().map(|&p| StepPair::SelfContact(p)));
 }
 
 /// A step's reference contacts with their runs of touching sub-steps.
@@ -160,6 +161,7 @@ fn body_pair(p: &StepPair) -> (u8, u32, u32) {
         StepPair::Environment(q) => (0, q.character.0, q.room.0),
         StepPair::Objects(q) => (1, q.character.0, q.object.0),
         StepPair::Characters(q) => (2, q.a.0, q.b.0),
+        StepPair::SelfContact(q) => (3, q.character.0, q.character.0),
     }
 }
 
@@ -297,6 +299,10 @@ pub fn measure_ccd(
                     .character_pairs
                     .iter()
                     .for_each(|p| add(StepPair::Characters(p.pair)));
+                truth
+                    .self_pairs
+                    .iter()
+                    .for_each(|p| add(StepPair::SelfContact(p.pair)));
                 contacts.sort_by_key(|c| c.0);
                 reference_contacts += contacts.len();
                 let mut bodies: Vec<(u8, u32, u32)> =

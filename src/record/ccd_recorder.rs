@@ -149,6 +149,7 @@ impl CcdRecorder {
                 StepPair::Environment(q) => (q.character, q.triangle),
                 StepPair::Objects(q) => (q.character, q.triangle),
                 StepPair::Characters(q) => (q.a, q.triangle_a),
+                StepPair::SelfContact(q) => (q.character, q.triangle_a),
             };
             if let StepPair::Objects(q) = p.pair {
                 involved[q.object.index()] = true;
@@ -201,6 +202,7 @@ impl CcdRecorder {
                     })
                 }
                 StepPair::Characters(q) => char_tri(q.b, q.triangle_b),
+                StepPair::SelfContact(q) => char_tri(q.character, q.triangle_b),
             };
             others.push([other[0], other[1], other[2], other[0]]);
         }

@@ -51,6 +51,7 @@ pub fn discrete_step_pairs(o: &StepContacts, out: &mut Vec<StepPair>) {
     out.extend(o.room_pairs.iter().map(|&p| StepPair::Environment(p)));
     out.extend(o.object_pairs.iter().map(|&p| StepPair::Objects(p)));
     out.extend(o.character_pairs.iter().map(|&p| StepPair::Characters(p)));
+    out.extend(o.self_pairs.iter().map(|&p| StepPair::SelfContact(p)));
     out.sort_unstable();
 }
 
@@ -71,6 +72,11 @@ pub fn continuous_step_pairs(o: &SweepContacts) -> Vec<TimedStepPair> {
         }))
         .chain(o.character_pairs.iter().map(|p| TimedStepPair {
             pair: StepPair::Characters(p.pair),
+            toi: p.toi,
+            by_plane: p.by_plane,
+        }))
+        .chain(o.self_pairs.iter().map(|p| TimedStepPair {
+            pair: StepPair::SelfContact(p.pair),
             toi: p.toi,
             by_plane: p.by_plane,
         }))

@@ -21,13 +21,14 @@ use parry3d::math::Vector as PVector;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use serde::Serialize;
 
+use super::self_truth::welded_corners;
 use crate::scenario::Resolved;
 use crate::session::Session;
 use cornertree::geometry::Point;
 use cornertree::geometry::exact::corners_intersect_exact;
 use cornertree::mesh::TriMesh;
 use cornertree::world::{
-    CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair,
+    CharacterHandle, CharacterPair, ObjectHandle, ObjectPair, RoomHandle, RoomPair, SelfPair,
 };
 
 /// A triangle's corners at both ends of a step (`f64`).
@@ -141,6 +142,12 @@ pub struct SubstepTruth {
     pub room_pairs: Vec<Found<RoomPair>>,
     pub object_pairs: Vec<Found<ObjectPair>>,
     pub character_pairs: Vec<Found<CharacterPair>>,
+    /// Each character against itself (scenes with `self_collision`):
+    /// pairs sharing a welded corner never count.
+    pub self_pairs: Vec<Found<SelfPair>>,
+    /// Per character, its triangles' welded corners, when the scene tests
+    /// characters against themselves (empty otherwise).
+    welded: Vec<Vec<[u32; 3]>>,
     /// Candidate pairs (boxes over the step overlap) decided this step.
     pub candidates: u64,
 }
@@ -196,6 +203,16 @@ impl SubstepTruth {
             room_pairs: Vec::new(),
             object_pairs: Vec::new(),
             character_pairs: Vec::new(),
+            self_pairs: Vec::new(),
+            welded: if scene.self_collision {
+                scene
+                    .characters
+                    .iter()
+                    .map(|a| welded_corners(&a.character.mesh))
+                    .collect()
+            } else {
+                Vec::new()
+            },
             candidates: 0,
         }
     }
@@ -206,6 +223,7 @@ impl SubstepTruth {
         self.room_pairs.clear();
         self.object_pairs.clear();
         self.character_pairs.clear();
+        self.self_pairs.clear();
         self.candidates = 0;
         let scene = bodies.scene;
         let characters: Vec<Bvh> = scene
@@ -232,6 +250,28 @@ impl SubstepTruth {
             .collect();
         let mut candidates = 0u64;
         for (c, cb) in characters.iter().enumerate() {
+            if let Some(welded) = self.welded.get(c) {
+                for (ta, tb) in cb.leaf_pairs(cb, overlap) {
+                    // Each unordered pair once; neighbours never count.
+                    let (wa, wb) = (&welded[ta as usize], &welded[tb as usize]);
+                    if ta >= tb || wa.iter().any(|v| wb.contains(v)) {
+                        continue;
+                    }
+                    candidates += 1;
+                    let a = bodies.character_triangle(c, ta);
+                    let b = bodies.character_triangle(c, tb);
+                    if let Some(i) = first_substep(&a, &b, n) {
+                        self.self_pairs.push(Found {
+                            pair: SelfPair {
+                                character: CharacterHandle(c as u32),
+                                triangle_a: ta,
+                                triangle_b: tb,
+                            },
+                            first_substep: i,
+                        });
+                    }
+                }
+            }
             for (t, rt) in cb.leaf_pairs(&self.room, overlap) {
                 candidates += 1;
                 let a = bodies.character_triangle(c, t);
@@ -292,11 +332,16 @@ impl SubstepTruth {
         self.object_pairs.dedup_by(|a, b| a.pair == b.pair);
         self.character_pairs.sort_unstable_by_key(|p| p.pair);
         self.character_pairs.dedup_by(|a, b| a.pair == b.pair);
+        self.self_pairs.sort_unstable_by_key(|p| p.pair);
+        self.self_pairs.dedup_by(|a, b| a.pair == b.pair);
     }
 
     /// Pairs of every kind.
     pub fn len(&self) -> usize {
-        self.room_pairs.len() + self.object_pairs.len() + self.character_pairs.len()
+        self.room_pairs.len()
+            + self.object_pairs.len()
+            + self.character_pairs.len()
+            + self.self_pairs.len()
     }
 
     pub fn is_empty(&self) -> bool {

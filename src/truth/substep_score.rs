@@ -17,7 +17,7 @@
 use serde::Serialize;
 
 use cornertree::geometry::ccd_root_finder::CcdParams;
-use cornertree::world::{CharacterPair, ObjectPair, RoomPair, SweepContacts, Timed};
+use cornertree::world::{CharacterPair, ObjectPair, RoomPair, SelfPair, SweepContacts, Timed};
 
 use super::substep::{Found, MovingCorners, StepBodies, SubstepTruth, corners_at, touch_at};
 
@@ -28,6 +28,8 @@ pub enum StepPair {
     Environment(RoomPair),
     Objects(ObjectPair),
     Characters(CharacterPair),
+    #[serde(rename = "self")]
+    SelfContact(SelfPair),
 }
 
 impl StepPair {
@@ -45,6 +47,10 @@ impl StepPair {
             StepPair::Characters(p) => (
                 bodies.character_triangle(p.a.index(), p.triangle_a),
                 bodies.character_triangle(p.b.index(), p.triangle_b),
+            ),
+            StepPair::SelfContact(p) => (
+                bodies.character_triangle(p.character.index(), p.triangle_a),
+                bodies.character_triangle(p.character.index(), p.triangle_b),
             ),
         }
     }
@@ -149,6 +155,10 @@ pub fn score_step(
     compare(
         refs(&truth.character_pairs, StepPair::Characters),
         reps(&outcome.character_pairs, StepPair::Characters),
+    );
+    compare(
+        refs(&truth.self_pairs, StepPair::SelfContact),
+        reps(&outcome.self_pairs, StepPair::SelfContact),
     );
     s.recall = if s.reference == 0 {
         1.0

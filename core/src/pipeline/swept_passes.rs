@@ -22,6 +22,10 @@ use crate::sphere_tree::swept_rigid::{RigidPath, SweptRigid};
 use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded};
 
+use crate::sphere_tree::character::CharacterTree;
+use crate::sphere_tree::self_contact::SelfContactData;
+use crate::sphere_tree::self_traverse::traverse_self;
+
 use super::continuous_narrow::{CcdCounters, TimedPair, corners, leaf_toi, wide};
 use super::counters::FrameCounters;
 use super::pass::{Pass, Traversed};
@@ -305,6 +309,86 @@ impl Pass for SweptPairPass<'_> {
         let ta = self.a.moving_triangle(p.primitive_a);
         let tb = self.b.moving_triangle(p.primitive_b);
         kernel_hit(&p, &ta, &tb, false, self.params, self.ccd, c)
+    }
+
+    fn finish(hits: &mut Vec<TimedPair>) {
+        hits.sort_unstable_by_key(|p| (p.a, p.b));
+    }
+}
+
+/// A character's step against itself: its swept tree walked against
+/// itself ([`traverse_self`]), each pair the swept spheres keep refined by
+/// both nodes' interpolated spheres, pairs sharing a welded corner dropped
+/// (the neighbour rule of the discrete self pass), then the
+/// triangle–triangle kernel at every leaf pair. Parts one joint moves are
+/// not skipped here: between two poses a vertex follows the blend of two
+/// matrices, whose least stretch over the step is not bounded yet.
+pub(crate) struct SweptSelfPass<'a> {
+    pub(crate) character: SweptSide<'a>,
+    pub(crate) data: &'a SelfContactData,
+    pub(crate) params: &'a CcdParams,
+    pub(crate) ccd: &'a mut CcdCounters,
+}
+
+impl Pass for SweptSelfPass<'_> {
+    /// `a < b`.
+    type Hit = TimedPair;
+
+    fn work(&self) -> (u64, u64) {
+        self.character.work()
+    }
+
+    fn traverse<const TIMED: bool>(
+        &mut self,
+        ws: &mut Workspace,
+        leaf_pairs: &mut Vec<LeafPair>,
+    ) -> Traversed {
+        let data = self.data;
+        let tree: &CharacterTree = self.character.tree;
+        let (mut h, cache) = self.character.hierarchy();
+        let mut sphere_tests = 0u64;
+        let stats = traverse_self(
+            &tree.tree,
+            &mut h,
+            ws,
+            |_| false,
+            |_, i, j| {
+                if cache.is_fresh(i) && cache.is_fresh(j) {
+                    sphere_tests += 1;
+                    let (ea, eb) = (cache.ends(i), cache.ends(j));
+                    sweeps_meet(&ea.start, &ea.end, &eb.start, &eb.end)
+                } else {
+                    true
+                }
+            },
+            |_, p| {
+                if !data.neighbours(p.primitive_a, p.primitive_b) {
+                    leaf_pairs.push(p);
+                }
+            },
+        );
+        Traversed {
+            stats,
+            guard_sphere_tests: sphere_tests,
+            ..Traversed::default()
+        }
+    }
+
+    fn test(
+        &mut self,
+        leaf_pairs: &[LeafPair],
+        k: usize,
+        _prepared: &mut [PreparedTriangles; 2],
+        c: &mut FrameCounters,
+    ) -> Option<TimedPair> {
+        let p = leaf_pairs[k];
+        let ta = self.character.moving_triangle(p.primitive_a);
+        let tb = self.character.moving_triangle(p.primitive_b);
+        kernel_hit(&p, &ta, &tb, false, self.params, self.ccd, c).map(|h| TimedPair {
+            a: h.a.min(h.b),
+            b: h.a.max(h.b),
+            ..h
+        })
     }
 
     fn finish(hits: &mut Vec<TimedPair>) {

@@ -169,6 +169,8 @@ pub(crate) struct CharacterSweep {
     pub(crate) rooms: Vec<PassSlot<TimedPair>>,
     pub(crate) objects: PassSlot<TimedPair>,
     pub(crate) object_pairs: Vec<Timed<ObjectPair>>,
+    /// Its step against itself, in worlds that test self-contact.
+    pub(crate) itself: Option<PassSlot<TimedPair>>,
 }
 
 impl CharacterBody {

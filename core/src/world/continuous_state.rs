@@ -83,6 +83,7 @@ impl ContinuousState {
             rooms: (0..rooms).map(|_| PassSlot::default()).collect(),
             objects: PassSlot::default(),
             object_pairs: Vec::new(),
+            itself: c.itself.as_ref().map(|_| PassSlot::default()),
         }
     }
 }

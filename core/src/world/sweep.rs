@@ -5,8 +5,9 @@
 //! [`RigidPath`]). Per sweep:
 //!
 //! 1. every character, side by side: its swept tree against every room,
-//!    the broad phase on swept root spheres against every object swept
-//!    along its path, and the object passes;
+//!    against itself (worlds that test self-contact), the broad phase on
+//!    swept root spheres against every object swept along its path, and
+//!    the object passes;
 //! 2. swept roots between characters, then each pair that meets;
 //! 3. the contacts with their times of impact, sorted, and the counters.
 //!
@@ -24,7 +25,7 @@ use crate::geometry::ccd_sphere_plane::StillPlane;
 use crate::pipeline::FrameCounters;
 use crate::pipeline::continuous_narrow::CcdCounters;
 use crate::pipeline::pass::run;
-use crate::pipeline::swept_passes::{SweptObjectPass, SweptPairPass, SweptRoomPass};
+use crate::pipeline::swept_passes::{SweptObjectPass, SweptPairPass, SweptRoomPass, SweptSelfPass};
 use crate::pipeline::swept_side::{StepPose, SweptSide};
 use crate::sphere_tree::NodeId;
 use crate::sphere_tree::swept_rigid::RigidPath;
@@ -32,7 +33,7 @@ use crate::sphere_tree::swept_rigid::RigidPath;
 use super::bodies::{CharacterBody, RigidBody};
 use super::broad_phase::SortAndSweep;
 use super::collision_world::CollisionWorld;
-use super::contacts::{CharacterPair, ObjectPair, RoomPair, SweepContacts, Timed};
+use super::contacts::{CharacterPair, ObjectPair, RoomPair, SelfPair, SweepContacts, Timed};
 use super::continuous_state::ContinuousState;
 use super::error::WorldError;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
@@ -183,6 +184,7 @@ fn own_sweeps(
         pose,
         sweep,
         own,
+        itself,
         ..
     } = c;
     let s = sweep.as_mut().expect("continuous detection is on");
@@ -211,6 +213,16 @@ fn own_sweeps(
         };
         let c = run(&mut pass, &mut slot.scratch, &mut slot.hits);
         own.rooms.add(&c);
+    }
+    own.itself = FrameCounters::default();
+    if let (Some(data), Some(slot)) = (itself.as_deref(), s.itself.as_mut()) {
+        let mut pass = SweptSelfPass {
+            character: side.reborrow(),
+            data: &data.data,
+            params,
+            ccd: &mut own.ccd,
+        };
+        own.itself = run(&mut pass, &mut slot.scratch, &mut slot.hits);
     }
     own.root = side.root_sphere();
     own.objects = FrameCounters::default();
@@ -317,6 +329,17 @@ fn gather(
         out.extra.add(&c.own.ccd);
         let h = CharacterHandle(i as u32);
         out.object_pairs.extend_from_slice(&s.object_pairs);
+        if let Some(slot) = &s.itself {
+            out.self_pairs.extend(slot.hits.iter().map(|p| Timed {
+                pair: SelfPair {
+                    character: h,
+                    triangle_a: p.a,
+                    triangle_b: p.b,
+                },
+                toi: p.toi,
+                by_plane: false,
+            }));
+        }
         for (r, slot) in s.rooms.iter().enumerate() {
             out.room_pairs.extend(slot.hits.iter().map(|p| Timed {
                 pair: RoomPair {
@@ -333,5 +356,6 @@ fn gather(
     out.room_pairs.sort_unstable_by_key(|p| p.pair);
     out.object_pairs.sort_unstable_by_key(|p| p.pair);
     out.character_pairs.sort_unstable_by_key(|p| p.pair);
+    out.self_pairs.sort_unstable_by_key(|p| p.pair);
     out.sum_kinds(refits, skinned);
 }
