@@ -146,6 +146,10 @@ fn every_shipped_scenario_is_tested() {
             // The plazas: tests/worlds.rs (shrunk to a few characters).
             "plaza_brushing.toml",
             "plaza_packed.toml",
+            // Self-collision: tests/worlds.rs (and tests/self_contact.rs).
+            "self_contact.toml",
+            // Self-collision between frames: tests/ccd_world.rs.
+            "self_swing.toml",
             "touching.toml",
             // Continuous detection: tests/ccd_world.rs, tests/ccd_recordings.rs.
             "tunnel.toml"
