@@ -35,7 +35,7 @@ use parry3d::shape::{TriMesh as ParryMesh, TriMeshFlags};
 use super::TruthError;
 use super::ground_truth::WorldPairs;
 use super::parry_reference::parry_triangles_intersect;
-use super::self_truth::{self_leaf_pairs, welded_corners};
+use super::self_truth::{self_leaf_pairs, welded_when_self_collision};
 use crate::scenario::Resolved;
 use cornertree::character::PoseBuffers;
 use cornertree::geometry::Point;
@@ -92,15 +92,7 @@ impl ParryWorld {
                 .iter()
                 .map(|a| a.character.mesh.indices().to_vec())
                 .collect(),
-            welded: if scene.self_collision {
-                scene
-                    .characters
-                    .iter()
-                    .map(|a| welded_corners(&a.character.mesh))
-                    .collect()
-            } else {
-                Vec::new()
-            },
+            welded: welded_when_self_collision(scene),
             characters: scene.characters.iter().map(|_| None).collect(),
             pairs: WorldPairs::default(),
             candidates: 0,

@@ -149,6 +149,26 @@ pub fn welded_corners(mesh: &TriMesh) -> Vec<[u32; 3]> {
         .collect()
 }
 
+/// Per character of `scene`, its triangles' welded corners when the scene
+/// tests characters against themselves; empty otherwise.
+pub fn welded_when_self_collision(scene: &crate::scenario::Resolved) -> Vec<Vec<[u32; 3]>> {
+    if !scene.self_collision {
+        return Vec::new();
+    }
+    scene
+        .characters
+        .iter()
+        .map(|a| welded_corners(&a.character.mesh))
+        .collect()
+}
+
+/// Whether two triangles' welded corners share one: neighbours, never a
+/// self contact.
+#[inline]
+pub fn share_a_corner(a: &[u32; 3], b: &[u32; 3]) -> bool {
+    a.iter().any(|v| b.contains(v))
+}
+
 /// The candidates of a parry mesh against itself: its BVH's leaf pairs
 /// against itself, each unordered pair once (`a < b`), pairs sharing a
 /// welded corner (`welded`) dropped, each handed to `each`; returns how
@@ -166,7 +186,7 @@ pub fn self_leaf_pairs(
             continue;
         }
         let (wa, wb) = (&welded[a as usize], &welded[b as usize]);
-        if wa.iter().any(|v| wb.contains(v)) {
+        if share_a_corner(wa, wb) {
             continue;
         }
         candidates += 1;

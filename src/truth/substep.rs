@@ -21,7 +21,7 @@ use parry3d::math::Vector as PVector;
 use parry3d::partitioning::{Bvh, BvhBuildStrategy, BvhNode};
 use serde::Serialize;
 
-use super::self_truth::welded_corners;
+use super::self_truth::{share_a_corner, welded_when_self_collision};
 use crate::scenario::Resolved;
 use crate::session::Session;
 use cornertree::geometry::Point;
@@ -204,15 +204,7 @@ impl SubstepTruth {
             object_pairs: Vec::new(),
             character_pairs: Vec::new(),
             self_pairs: Vec::new(),
-            welded: if scene.self_collision {
-                scene
-                    .characters
-                    .iter()
-                    .map(|a| welded_corners(&a.character.mesh))
-                    .collect()
-            } else {
-                Vec::new()
-            },
+            welded: welded_when_self_collision(scene),
             candidates: 0,
         }
     }
@@ -254,7 +246,7 @@ impl SubstepTruth {
                 for (ta, tb) in cb.leaf_pairs(cb, overlap) {
                     // Each unordered pair once; neighbours never count.
                     let (wa, wb) = (&welded[ta as usize], &welded[tb as usize]);
-                    if ta >= tb || wa.iter().any(|v| wb.contains(v)) {
+                    if ta >= tb || share_a_corner(wa, wb) {
                         continue;
                     }
                     candidates += 1;

@@ -4,7 +4,7 @@
 //! No new traversal: a node's leaf pairs are those of each child alone plus
 //! those across each pair of its children, `self(n) = Σ self(c) + Σ
 //! cross(c_k, c_l)` for `k < l`. Each `cross` is the ordinary simultaneous
-//! traversal ([`super::traverse`]) started at the pair `(c_k, c_l)` instead
+//! traversal ([`super::traverse()`]) started at the pair `(c_k, c_l)` instead
 //! of the roots, both sides being views of the one hierarchy (its spheres
 //! refit on demand once, whichever side asks). A pair of leaves has one
 //! lowest common ancestor, so it is reached by one `cross` only, once.
