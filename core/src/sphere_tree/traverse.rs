@@ -159,18 +159,7 @@ where
     G: FnMut(NodeId, &crate::geometry::Sphere) -> bool,
     F: FnMut(LeafPair),
 {
-    let mut guard = guard;
-    traverse_core(
-        a,
-        b,
-        ws,
-        ROOTS,
-        None,
-        |_| None,
-        &AsTested,
-        |_, j, s| guard(j, s),
-        on_leaf_pair,
-    )
+    traverse_ordered(a, b, ws, &AsTested, guard, on_leaf_pair)
 }
 
 /// Both roots: where a traversal of two whole trees starts.
