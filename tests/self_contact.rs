@@ -80,8 +80,9 @@ fn brute_force(c: &Character, posed: &[Point]) -> Vec<(u32, u32)> {
 }
 
 /// Steps `character` through every frame of each clip at 30 fps (every
-/// `stride`-th) in worlds of every method given (culling on, and off for
-/// the first), and checks each world's self pairs against the oracle, and
+/// `stride`-th) in worlds of every method given (culling on; for the first
+/// also with normal cones, and with no culling), and checks each world's
+/// self pairs against the oracle, and
 /// the oracle against the brute force on `brute` frames spread over each
 /// clip. Returns the frames that had self-contact and the pairs found.
 fn check(
@@ -93,9 +94,10 @@ fn check(
 ) -> (usize, usize) {
     let character = Arc::new(character);
     let cm = Arc::new(CharacterModel::new(character.clone(), model).unwrap());
-    let settings = |cull| WorldSettings {
+    let settings = |cull, cones| WorldSettings {
         self_collision: true,
         self_rigid_culling: cull,
+        self_normal_cone_culling: cones,
         time_refit: false,
         ..WorldSettings::default()
     };
@@ -104,13 +106,17 @@ fn check(
         .map(|&m| {
             (
                 m.to_string(),
-                CollisionWorld::with_settings(m, settings(true)),
+                CollisionWorld::with_settings(m, settings(true, false)),
             )
         })
         .collect();
     worlds.push((
+        format!("{} with normal cones", methods[0]),
+        CollisionWorld::with_settings(methods[0], settings(true, true)),
+    ));
+    worlds.push((
         format!("{} without culling", methods[0]),
-        CollisionWorld::with_settings(methods[0], settings(false)),
+        CollisionWorld::with_settings(methods[0], settings(false, false)),
     ));
     for (_, w) in &mut worlds {
         w.add_character(cm.clone()).unwrap();
@@ -119,6 +125,9 @@ fn check(
     let mut posed = vec![Point::origin(); character.mesh.vertex_count()];
     let mut oracle = SelfTruth::new(&character.mesh).unwrap();
     let (mut touching, mut pairs) = (0, 0);
+    // Sphere tests of the first method's world, with and without normal
+    // cones, over the whole run.
+    let (mut rigid_only, mut with_cones) = (0u64, 0u64);
     for clip in &character.clips {
         let frames = (clip.duration() * 30.0).floor() as usize + 1;
         let checked: Vec<usize> = (0..frames).step_by(stride).collect();
@@ -159,9 +168,19 @@ fn check(
                 tests.push(w.contacts().by_kind.self_contact.sphere_sphere);
             }
             // Culling only ever saves work.
-            assert!(tests[0] <= tests[tests.len() - 1]);
+            let n = tests.len();
+            assert!(tests[0] <= tests[n - 1] && tests[n - 2] <= tests[0]);
+            rigid_only += tests[0];
+            with_cones += tests[n - 2];
         }
     }
+    // The normal cones proved something (so the comparison above tested
+    // their culling, not a pass that never skips).
+    assert!(
+        with_cones < rigid_only,
+        "{}: normal cones saved no sphere test ({with_cones} against {rigid_only})",
+        character.name
+    );
     (touching, pairs)
 }
 

@@ -51,6 +51,7 @@ pub mod query_shapes;
 pub mod scalar;
 pub mod sphere;
 pub mod sphere_sweep;
+pub mod star_contour;
 pub mod tri_tri;
 pub mod triangle;
 pub mod triangle_prism;

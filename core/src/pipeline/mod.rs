@@ -11,7 +11,7 @@
 //! | `frame` | a pass in its second body's frame: the room's (nothing moves) or a moving object's | §1 |
 //! | `character_side` | a character in a pass: its tree refit and its triangles skinned on demand | §3 |
 //! | `rigid_pass`, `pair_pass` | the discrete passes: a character against a rigid body, two characters | §3–5 |
-//! | `self_pass` | a character against itself: its tree walked against itself, neighbours dropped, parts one joint moves skipped where their rest gap proves them apart | (ours) |
+//! | `self_pass` | a character against itself: its tree walked against itself, neighbours dropped, parts one joint moves skipped where their rest gap proves them apart; optionally, disks facing one direction with a simple outline (normal cones) | (ours) |
 //! | `query_pass` | a ray, ball or capsule against one body: the same skeleton, the shape as a one-leaf hierarchy | (queries) |
 //! | `swept_side`, `swept_passes` | the continuous passes over a frame step: a character's swept tree against the room, an object, a character | §7 |
 //! | [`continuous_narrow`] | the continuous leaf tests: plane of a big triangle, triangle–triangle CCD, times of impact | §5, §7 |

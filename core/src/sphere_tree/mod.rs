@@ -15,6 +15,8 @@
 //! | `pass_marks` | per index, the last key met in a pass (no clearing between passes) |
 //! | [`self_traverse`] | one tree against itself: each pair of overlapping leaves once, by the traversal above started at pairs of siblings |
 //! | [`self_contact`] | what a character's self pass knows from its skinning: welded corners (the neighbour rule), parts one joint moves, their rest gaps |
+//! | [`normal_cones`] | each node's cone of triangle normals in a pose, from the leaves up |
+//! | [`flat_patches`] | which nodes and pairs of nodes cover a disk of the mesh, with its boundary loop (the contour test of normal-cone culling) |
 //! | `grouped` | the same, descending each sphere once per group of leaves (a big triangle's division) |
 //!
 //! Invariants (checked by [`SphereTree::validate`]): node 0 is the root; the
@@ -27,8 +29,10 @@
 pub mod build;
 pub mod character;
 pub mod containment;
+pub mod flat_patches;
 pub(crate) mod grouped;
 pub mod node;
+pub mod normal_cones;
 pub(crate) mod pass_marks;
 pub mod refit;
 mod refit_ahead;

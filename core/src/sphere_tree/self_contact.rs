@@ -33,6 +33,7 @@ use crate::mesh::TriangleId;
 use crate::mesh::dedup::weld_positions;
 
 use super::character::CharacterTree;
+use super::flat_patches::FlatPatches;
 use super::node::{NodeId, SphereTree};
 use super::self_traverse::traverse_self;
 use super::traverse::{Hierarchy, Workspace};
@@ -63,13 +64,18 @@ pub struct SelfContactData {
     /// The largest bind coordinate magnitude, at least 1 (the homogeneous
     /// coordinate): bounds a skinned corner's rounding.
     coordinate_bound: f32,
+    /// The disks among its nodes and pairs of nodes (normal-cone culling),
+    /// when asked for.
+    flat: Option<FlatPatches>,
 }
 
 impl SelfContactData {
     /// Computes the data of `tree`, built for `character`: welds, joints
     /// per node, and rest distances by one walk of the rest tree against
-    /// itself with spheres widened by [`REST_GAP_REACH`].
-    pub fn new(character: &Character, tree: &CharacterTree) -> Self {
+    /// itself with spheres widened by [`REST_GAP_REACH`]; with
+    /// `with_flat_patches`, also its disks for normal-cone culling
+    /// ([`FlatPatches`]).
+    pub fn new(character: &Character, tree: &CharacterTree, with_flat_patches: bool) -> Self {
         let mesh = &character.mesh;
         let weld = weld_positions(mesh);
         let welded: Vec<[u32; 3]> = mesh
@@ -133,6 +139,7 @@ impl SelfContactData {
             gap_out: Vec::new(),
             gap_within: Vec::new(),
             coordinate_bound,
+            flat: with_flat_patches.then(|| FlatPatches::new(character, tree)),
         };
         let same = |out: &Self, i: NodeId, j: NodeId| {
             let (a, b) = (out.node_joint[i.index()], out.node_joint[j.index()]);
@@ -237,9 +244,18 @@ impl SelfContactData {
             .count()
     }
 
+    /// The disks among its nodes and pairs of nodes, flat at rest: where
+    /// normal-cone culling is tried (when it was asked for).
+    pub fn flat(&self) -> Option<&FlatPatches> {
+        self.flat.as_ref()
+    }
+
     /// Heap bytes held.
     pub fn bytes(&self) -> usize {
-        self.welded.len() * 12 + self.node_joint.len() * 2 + self.gap_out.len() * 8
+        self.welded.len() * 12
+            + self.node_joint.len() * 2
+            + self.gap_out.len() * 8
+            + self.flat.as_ref().map_or(0, FlatPatches::bytes)
     }
 }
 

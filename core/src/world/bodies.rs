@@ -20,6 +20,7 @@ use crate::pipeline::pass::PassScratch;
 use crate::pipeline::visit_log::TestedNodes;
 use crate::pipeline::{Method, SweepState};
 use crate::sphere_tree::character::CharacterTree;
+use crate::sphere_tree::normal_cones::NodeCones;
 use crate::sphere_tree::refit::RefitState;
 use crate::sphere_tree::self_contact::{RigidGaps, SelfContactData};
 
@@ -146,6 +147,8 @@ pub(crate) struct SelfState {
     pub(crate) data: Arc<SelfContactData>,
     pub(crate) slot: PassSlot<(u32, u32)>,
     pub(crate) gaps: RigidGaps,
+    /// This step's normal cones of the character tree's nodes.
+    pub(crate) cones: NodeCones,
 }
 
 impl SelfState {
@@ -154,6 +157,7 @@ impl SelfState {
             data,
             slot: PassSlot::default(),
             gaps: RigidGaps::default(),
+            cones: NodeCones::default(),
         }
     }
 }

@@ -51,6 +51,12 @@ pub struct WorldSettings {
     /// rest (exact: `sphere_tree::self_contact`); off only to measure what
     /// that saves.
     pub self_rigid_culling: bool,
+    /// Whether the self pass skips a node, or a pair of nodes, whose
+    /// triangles form a disk of the mesh facing one direction with a simple
+    /// outline seen along it (normal cones with their contour test, exact:
+    /// `sphere_tree::flat_patches`). Off by default: measured, it does not
+    /// pay on our trees (docs/self-collision.md).
+    pub self_normal_cone_culling: bool,
 }
 
 impl Default for WorldSettings {
@@ -61,6 +67,7 @@ impl Default for WorldSettings {
             time_refit: true,
             self_collision: false,
             self_rigid_culling: true,
+            self_normal_cone_culling: false,
         }
     }
 }
@@ -347,10 +354,11 @@ impl CollisionWorld {
                 m.character_build(self.settings.build),
                 m.refit_rule(),
             ));
+            let flat = self.settings.self_normal_cone_culling;
             let data = self
                 .settings
                 .self_collision
-                .then(|| Arc::new(SelfContactData::new(model.character(), &tree)));
+                .then(|| Arc::new(SelfContactData::new(model.character(), &tree, flat)));
             (tree, data)
         });
         let handle = CharacterHandle(self.characters.len() as u32);

@@ -36,7 +36,7 @@ use crate::pipeline::character_side::CharacterSide;
 use crate::pipeline::pair_pass::PairPass;
 use crate::pipeline::pass::run;
 use crate::pipeline::rigid_pass::RigidPass;
-use crate::pipeline::self_pass::SelfPass;
+use crate::pipeline::self_pass::{SelfCulling, SelfPass};
 use crate::pipeline::visit_log::NoLog;
 use crate::sphere_tree::NodeId;
 
@@ -100,7 +100,10 @@ impl CollisionWorld {
             ..
         } = self;
         let (method, timed) = (*method, settings.time_refit);
-        let cull_rigid = settings.self_rigid_culling;
+        let culling = SelfCulling {
+            rigid: settings.self_rigid_culling,
+            normal_cones: settings.self_normal_cone_culling,
+        };
         graph.run(|t, pair| match pair {
             // A pass holds its characters alone: these locks are never
             // contended.
@@ -110,7 +113,7 @@ impl CollisionWorld {
                     own_passes(
                         &mut c,
                         l,
-                        (method, timed, cull_rigid),
+                        (method, timed, culling),
                         rooms,
                         objects,
                         object_roots,
@@ -256,12 +259,11 @@ pub(crate) fn side(c: &mut CharacterBody) -> CharacterSide<'_> {
 /// Character `i`'s own passes: against every room (its frame start's refits
 /// and refit ahead counted with them), against itself when the world asks,
 /// then against every object whose root sphere its root sphere meets.
-/// `how`: the method, whether refits are timed, whether the self pass
-/// skips parts one joint moves.
+/// `how`: the method, whether refits are timed, what the self pass culls.
 fn own_passes(
     c: &mut CharacterBody,
     lent: &mut super::pass_pool::Lent,
-    (method, timed, cull_rigid): (crate::pipeline::Method, bool, bool),
+    (method, timed, culling): (crate::pipeline::Method, bool, SelfCulling),
     rooms: &[RigidBody],
     objects: &[RigidBody],
     object_roots: &[Option<Sphere>],
@@ -336,7 +338,8 @@ fn own_passes(
             side: character.reborrow(),
             data: &s.data,
             gaps: &mut s.gaps,
-            cull_rigid,
+            cones: &mut s.cones,
+            culling,
             timed,
         };
         own.itself = run(&mut pass, &mut s.slot.scratch, &mut s.slot.hits);
