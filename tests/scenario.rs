@@ -272,6 +272,49 @@ fn unknown_method_lists_the_valid_ones() {
 }
 
 #[test]
+fn self_culling_is_read_and_checked() {
+    // Default: parts one joint moves; the key picks any set, even none.
+    let path = temp_dir().join("self_culling.toml");
+    for (line, rigid, cones) in [
+        ("", true, false),
+        ("self_culling = [\"normal-cones\"]\n", false, true),
+        ("self_culling = [\"rigid\", \"normal-cones\"]\n", true, true),
+        ("self_culling = []\n", false, false),
+    ] {
+        std::fs::write(&path, format!("self_collision = true\n{line}{GOOD}")).unwrap();
+        let r = resolve(&load_scenario(&path).unwrap(), &temp_dir()).unwrap();
+        let w = r.world_settings();
+        assert_eq!(
+            (
+                w.self_collision,
+                w.self_rigid_culling,
+                w.self_normal_cone_culling
+            ),
+            (true, rigid, cones),
+            "{line}"
+        );
+    }
+    let (path, msg) = error_of(
+        "self_culling_typo.toml",
+        &format!("self_collision = true\nself_culling = [\"normal-cone\"]\n{GOOD}"),
+    );
+    assert!(msg.starts_with(&line_prefix(&path, 2)), "{msg}");
+    assert!(
+        msg.contains("normal-cone") && msg.contains("normal-cones") && msg.contains("rigid"),
+        "{msg}"
+    );
+    let (path, msg) = error_of(
+        "self_culling_alone.toml",
+        &format!("self_culling = [\"rigid\"]\n{GOOD}"),
+    );
+    assert!(msg.starts_with(&line_prefix(&path, 1)), "{msg}");
+    assert!(
+        msg.contains("self_culling") && msg.contains("self_collision"),
+        "{msg}"
+    );
+}
+
+#[test]
 fn unknown_surface_lists_objects() {
     let text = GOOD.replace("\"south wall\"", "\"souht wall\"");
     let (path, msg) = error_of("surface.toml", &text);

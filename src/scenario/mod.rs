@@ -79,6 +79,9 @@ pub struct Scenario {
     /// `self_collision`: every character also against itself (pair kind
     /// `self`; docs/self-collision.md).
     pub self_collision: bool,
+    /// `self_culling`: what the self pass culls (default: parts one joint
+    /// moves).
+    pub self_culling: Vec<SelfCulling>,
     /// `[environment] subdivide`, applied in order to the room once built.
     pub subdivide: Vec<SubdivideObject>,
 }
@@ -321,6 +324,19 @@ fn line_text(text: &str, offset: usize) -> String {
 
 // ---- The file as written: spans kept where later checks need a line. ----
 
+/// A culling of the self pass (scenario key `self_culling`; each exact,
+/// docs/self-collision.md).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SelfCulling {
+    /// Parts one joint moves that lie apart at rest are skipped.
+    Rigid,
+    /// Disks of the mesh whose normals face one direction with a simple
+    /// outline are skipped (normal cones; measured not to pay on our
+    /// characters).
+    NormalCones,
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawScenario {
@@ -338,6 +354,7 @@ struct RawScenario {
     ccd: Option<bool>,
     ccd_substeps: Option<Spanned<i64>>,
     self_collision: Option<bool>,
+    self_culling: Option<Spanned<Vec<SelfCulling>>>,
     #[serde(default)]
     recording: Option<RawRecording>,
 }
@@ -773,6 +790,18 @@ impl Scenario {
                 .map_err(|m| err_at(n.span(), "ccd_substeps", m))? as u32,
             None => DEFAULT_CCD_SUBSTEPS,
         };
+        let self_collision = raw.self_collision.unwrap_or(false);
+        let self_culling = match raw.self_culling {
+            Some(c) if !self_collision => {
+                return Err(err_at(
+                    c.span(),
+                    "self_culling",
+                    "culls the self pass, which runs only with `self_collision = true`".into(),
+                ));
+            }
+            Some(c) => c.into_inner(),
+            None => vec![SelfCulling::Rigid],
+        };
         let recording = match raw.recording {
             Some(r) => {
                 let every = |v: &Option<Spanned<i64>>, field: &str| match v {
@@ -804,7 +833,8 @@ impl Scenario {
             recording,
             ccd: raw.ccd.unwrap_or(false),
             ccd_substeps,
-            self_collision: raw.self_collision.unwrap_or(false),
+            self_collision,
+            self_culling,
             subdivide,
             crowd,
         })

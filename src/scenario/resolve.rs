@@ -64,6 +64,8 @@ pub struct Resolved {
     pub ccd_substeps: u32,
     /// Every character also against itself (`self_collision`).
     pub self_collision: bool,
+    /// What its self pass culls (`self_culling`).
+    pub self_culling: Vec<super::SelfCulling>,
     /// Bytes the bodies, hierarchies and ground truth are estimated to take
     /// (charged to the [`RunLimits`] they were resolved with).
     pub estimated_bytes: usize,
@@ -188,11 +190,13 @@ impl Resolved {
 
     /// The settings of every method's world: the scenario's big-triangle
     /// threshold, the paper's tree build, refit timed apart, self-collision
-    /// as the scenario says.
+    /// and its culling as the scenario says.
     pub fn world_settings(&self) -> WorldSettings {
         WorldSettings {
             threshold: self.threshold,
             self_collision: self.self_collision,
+            self_rigid_culling: self.self_culling.contains(&super::SelfCulling::Rigid),
+            self_normal_cone_culling: self.self_culling.contains(&super::SelfCulling::NormalCones),
             ..WorldSettings::default()
         }
     }
@@ -691,6 +695,7 @@ pub fn resolve_with(
         ccd: s.ccd,
         ccd_substeps: s.ccd_substeps,
         self_collision: s.self_collision,
+        self_culling: s.self_culling.clone(),
     })
 }
 
