@@ -48,7 +48,7 @@ struct Scene {
 }
 
 impl Scene {
-    fn new(method: Method) -> Self {
+    fn new(method: Method, normal_cones: bool) -> Self {
         let character = Arc::new(
             humanoid::generate_humanoid(&humanoid::HumanoidParams {
                 vertices: 3000,
@@ -59,6 +59,7 @@ impl Scene {
         // Each walker also against itself: every kind of pass takes part.
         let settings = cornertree::world::WorldSettings {
             self_collision: true,
+            self_normal_cone_culling: normal_cones,
             ..Default::default()
         };
         let mut world = CollisionWorld::with_settings(method, settings);
@@ -118,13 +119,18 @@ impl Scene {
 #[test]
 fn steps_allocate_nothing_once_buffers_are_sized() {
     let frames = 12;
-    for method in [Method::UndividedPrunedTriTri, Method::PlaneSphere] {
+    // The self pass's normal cones (off by default) once, on one method.
+    for (method, cones) in [
+        (Method::UndividedPrunedTriTri, false),
+        (Method::PlaneSphere, false),
+        (Method::UndividedPrunedTriTri, true),
+    ] {
         for threads in [1, 2] {
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads)
                 .build()
                 .unwrap();
-            let mut scene = Scene::new(method);
+            let mut scene = Scene::new(method, cones);
             let (first, second, kinds) = pool.install(|| {
                 let mut kinds = [0usize; 4];
                 let mut pass = |kinds: &mut [usize; 4]| {
@@ -148,7 +154,7 @@ fn steps_allocate_nothing_once_buffers_are_sized() {
             assert!(first[0] > 0, "{method}: the first step sizes the buffers");
             assert!(
                 second.iter().all(|&n| n == 0),
-                "{method}, {threads} threads: allocations per step on the replay: \
+                "{method} (normal cones {cones}), {threads} threads: allocations per step on the replay: \
                  {second:?} (first pass {first:?})"
             );
             // Every kind of pair takes part.
