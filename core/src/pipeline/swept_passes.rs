@@ -23,7 +23,7 @@ use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{Hierarchy, NodeId, SphereTree, Workspace, traverse, traverse_guarded};
 
 use crate::sphere_tree::character::CharacterTree;
-use crate::sphere_tree::self_contact::SelfContactData;
+use crate::sphere_tree::self_contact::{RigidGaps, SelfContactData};
 use crate::sphere_tree::self_traverse::traverse_self;
 
 use super::continuous_narrow::{CcdCounters, TimedPair, corners, leaf_toi, wide};
@@ -319,13 +319,17 @@ impl Pass for SweptPairPass<'_> {
 /// A character's step against itself: its swept tree walked against
 /// itself ([`traverse_self`]), each pair the swept spheres keep refined by
 /// both nodes' interpolated spheres, pairs sharing a welded corner dropped
-/// (the neighbour rule of the discrete self pass), then the
-/// triangle–triangle kernel at every leaf pair. Parts one joint moves are
-/// not skipped here: between two poses a vertex follows the blend of two
-/// matrices, whose least stretch over the step is not bounded yet.
+/// (the neighbour rule of the discrete self pass), parts one joint moves
+/// skipped where their rest gap proves them apart over the whole step
+/// ([`RigidGaps::update_over_step`]), then the triangle–triangle kernel at
+/// every leaf pair.
 pub(crate) struct SweptSelfPass<'a> {
     pub(crate) character: SweptSide<'a>,
     pub(crate) data: &'a SelfContactData,
+    /// This step's gaps per joint (updated by the pass when culling).
+    pub(crate) gaps: &'a mut RigidGaps,
+    /// Whether parts one joint moves are skipped.
+    pub(crate) cull_rigid: bool,
     pub(crate) params: &'a CcdParams,
     pub(crate) ccd: &'a mut CcdCounters,
 }
@@ -344,6 +348,17 @@ impl Pass for SweptSelfPass<'_> {
         leaf_pairs: &mut Vec<LeafPair>,
     ) -> Traversed {
         let data = self.data;
+        let cull = self.cull_rigid;
+        if cull {
+            let pose = self.character.pose;
+            self.gaps.update_over_step(
+                pose.start.skin,
+                pose.end.skin,
+                data.coordinate_bound(),
+                self.params.tolerance,
+            );
+        }
+        let gaps = &*self.gaps;
         let tree: &CharacterTree = self.character.tree;
         let (mut h, cache) = self.character.hierarchy();
         let mut sphere_tests = 0u64;
@@ -351,9 +366,11 @@ impl Pass for SweptSelfPass<'_> {
             &tree.tree,
             &mut h,
             ws,
-            |_| false,
+            |n| cull && data.skips_node(gaps, n),
             |_, i, j| {
-                if cache.is_fresh(i) && cache.is_fresh(j) {
+                if cull && data.skips_pair(gaps, i, j) {
+                    false
+                } else if cache.is_fresh(i) && cache.is_fresh(j) {
                     sphere_tests += 1;
                     let (ea, eb) = (cache.ends(i), cache.ends(j));
                     sweeps_meet(&ea.start, &ea.end, &eb.start, &eb.end)

@@ -276,6 +276,36 @@ impl Hierarchy for Widened<'_> {
     }
 }
 
+/// A joint's skin matrix `m`: a lower bound of its linear part's least
+/// stretch, `2·|det A| / ‖A‖_F²`, and the rounding bound `e` of a corner it
+/// skins (bind coordinates at most `coordinate_bound`; see
+/// [`RigidGaps::update`]).
+fn joint_bounds(m: &Matrix4<f32>, coordinate_bound: f32) -> (f64, f64) {
+    let u = f64::from(f32::EPSILON) / 2.0;
+    let gamma8 = 8.0 * u / (1.0 - 8.0 * u);
+    let a = m.fixed_view::<3, 3>(0, 0).into_owned().cast::<f64>();
+    let rows = (0..3)
+        .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
+        .fold(0.0f64, f64::max);
+    let sigma_min = 2.0 * a.determinant().abs() / a.norm_squared();
+    (
+        sigma_min,
+        3f64.sqrt() * gamma8 * rows * f64::from(coordinate_bound),
+    )
+}
+
+/// The least rest gap a pair must have to stay farther apart than `slack`
+/// under a map shrinking no length below `sigma_min`, with a factor 4 of
+/// margin; infinite (nothing proved) for a map that may collapse.
+fn least_gap(sigma_min: f64, slack: f64) -> f32 {
+    let least = 4.0 * slack / sigma_min;
+    if least.is_finite() && sigma_min > 0.0 {
+        least as f32
+    } else {
+        f32::INFINITY
+    }
+}
+
 /// Per joint, this frame: the least rest distance that proves two
 /// triangles that joint moves apart ([`SelfContactData`]'s module doc).
 #[derive(Clone, Debug, Default)]
@@ -295,24 +325,50 @@ impl RigidGaps {
     /// `g > 2e / σ_min`, asked here with a factor 4 of margin.
     pub fn update(&mut self, skin: &[Matrix4<f32>], coordinate_bound: f32) {
         self.least.clear();
-        let u = f64::from(f32::EPSILON) / 2.0;
-        let gamma8 = 8.0 * u / (1.0 - 8.0 * u);
-        let c = f64::from(coordinate_bound);
         self.least.extend(skin.iter().map(|m| {
-            let a = m.fixed_view::<3, 3>(0, 0).into_owned().cast::<f64>();
-            let det = a.determinant().abs();
-            let frob2 = a.norm_squared();
-            let rows = (0..3)
-                .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
-                .fold(0.0f64, f64::max);
-            let sigma_min = 2.0 * det / frob2;
-            let e = 3f64.sqrt() * gamma8 * rows * c;
-            let least = 4.0 * 2.0 * e / sigma_min;
-            if least.is_finite() && sigma_min > 0.0 {
-                least as f32
-            } else {
-                f32::INFINITY
-            }
+            let (sigma_min, e) = joint_bounds(m, coordinate_bound);
+            least_gap(sigma_min, 2.0 * e)
+        }));
+    }
+
+    /// The same over a frame step (continuous detection), from the skin
+    /// matrices at its start and end: in between, a corner `v` one joint
+    /// moves follows `(1 − t)·fl(M₀·v) + t·fl(M₁·v)`, the affine map
+    /// `M(t) = (1 − t)·M₀ + t·M₁` off by at most the larger end's rounding
+    /// `e`. `M(t)`'s linear part shrinks no length below `σ_min(A₀) −
+    /// t·‖A₁ − A₀‖` nor below `σ_min(A₁) − (1 − t)·‖A₁ − A₀‖`, so below
+    /// `(σ₀ + σ₁ − ‖A₁ − A₀‖_F) / 2` at any `t`. A pair is proved apart
+    /// when it stays farther than the kernel's tolerance `√3·δ` as well
+    /// (the kernel may report a pair that close).
+    pub fn update_over_step(
+        &mut self,
+        start: &[Matrix4<f32>],
+        end: &[Matrix4<f32>],
+        coordinate_bound: f32,
+        tolerance: f64,
+    ) {
+        // The kernel raises δ to 16ε where that is larger, ε about 1.4e-14
+        // times the query's largest coordinate (at most the largest row
+        // sum times the bind bound, at either end).
+        let largest = start
+            .iter()
+            .chain(end)
+            .map(|m| {
+                (0..3)
+                    .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
+                    .fold(0.0f64, f64::max)
+            })
+            .fold(0.0f64, f64::max)
+            * f64::from(coordinate_bound);
+        let tolerance = tolerance.max(16.0 * 1.5e-14 * largest);
+        self.least.clear();
+        self.least.extend(start.iter().zip(end).map(|(m0, m1)| {
+            let (s0, e0) = joint_bounds(m0, coordinate_bound);
+            let (s1, e1) = joint_bounds(m1, coordinate_bound);
+            let a0 = m0.fixed_view::<3, 3>(0, 0).into_owned().cast::<f64>();
+            let a1 = m1.fixed_view::<3, 3>(0, 0).into_owned().cast::<f64>();
+            let sigma_min = 0.5 * (s0 + s1 - (a1 - a0).norm());
+            least_gap(sigma_min, 2.0 * e0.max(e1) + 3f64.sqrt() * tolerance)
         }));
     }
 
@@ -323,5 +379,86 @@ impl RigidGaps {
         self.least
             .get(j as usize)
             .is_some_and(|&least| rest_gap > least)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{RigidGaps, joint_bounds};
+    use nalgebra::{Matrix3, Matrix4, Rotation3, Vector3};
+
+    /// A skin matrix: rotation about `axis` by `angle`, scaled per axis by
+    /// `scale`, sheared by `shear`, translated.
+    fn skin(axis: Vector3<f32>, angle: f32, scale: Vector3<f32>, shear: f32) -> Matrix4<f32> {
+        let r = Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), angle);
+        let mut s = Matrix3::from_diagonal(&scale);
+        s[(0, 1)] = shear;
+        let a = r.matrix() * s;
+        let mut m = a.to_homogeneous();
+        m[(0, 3)] = 0.3;
+        m[(1, 3)] = -1.2;
+        m[(2, 3)] = 0.7;
+        m
+    }
+
+    fn sigma_min(a: &Matrix3<f64>) -> f64 {
+        a.singular_values().min()
+    }
+
+    /// The least-stretch bounds against nalgebra's singular values, at one
+    /// pose and at every sampled instant between two (the bound over a
+    /// step).
+    #[test]
+    fn least_stretch_bounds_are_below_the_singular_values() {
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut random = || {
+            let axis = Vector3::new(next() - 0.5, next() - 0.5, next() + 0.1);
+            let scale = Vector3::new(0.5 + next(), 0.5 + next(), 0.5 + next());
+            skin(axis, 6.0 * next() - 3.0, scale, next() - 0.5)
+        };
+        let linear = |m: &Matrix4<f32>| m.fixed_view::<3, 3>(0, 0).into_owned().cast::<f64>();
+        for _ in 0..500 {
+            let (m0, m1) = (random(), random());
+            let (s0, _) = joint_bounds(&m0, 1.0);
+            assert!(s0 <= sigma_min(&linear(&m0)) * (1.0 + 1e-12));
+            let (s1, _) = joint_bounds(&m1, 1.0);
+            let over_step = 0.5 * (s0 + s1 - (linear(&m1) - linear(&m0)).norm());
+            for k in 0..=64 {
+                let t = k as f64 / 64.0;
+                let a = linear(&m0) * (1.0 - t) + linear(&m1) * t;
+                assert!(
+                    over_step <= sigma_min(&a) * (1.0 + 1e-12) + 1e-12,
+                    "t = {t}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn gaps_prove_rigid_motion_apart_and_collapse_nothing() {
+        let turn = skin(Vector3::z(), 0.3, Vector3::new(1.0, 1.0, 1.0), 0.0);
+        let other = skin(Vector3::x(), -0.2, Vector3::new(1.0, 1.0, 1.0), 0.0);
+        let mut g = RigidGaps::default();
+        g.update(&[turn], 2.0);
+        assert!(g.proves_apart(0, 1e-4) && !g.proves_apart(0, 0.0));
+        // An unknown joint proves nothing.
+        assert!(!g.proves_apart(1, 1.0));
+        g.update_over_step(&[turn], &[other], 2.0, 1e-6);
+        assert!(g.proves_apart(0, 1e-3) && !g.proves_apart(0, 1e-6));
+        // A step through a mirror image passes through a singular map: the
+        // pair may collapse onto itself, nothing is proved.
+        let mirror = skin(Vector3::z(), 0.0, Vector3::new(-1.0, 1.0, 1.0), 0.0);
+        g.update_over_step(&[turn], &[mirror], 2.0, 1e-6);
+        assert!(!g.proves_apart(0, 1e6));
+        // A singular pose proves nothing either.
+        let flat = skin(Vector3::z(), 0.3, Vector3::new(1.0, 1.0, 0.0), 0.0);
+        g.update(&[flat], 2.0);
+        assert!(!g.proves_apart(0, 1e6));
     }
 }

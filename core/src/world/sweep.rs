@@ -82,6 +82,7 @@ impl CollisionWorld {
     /// step: it records the poses and finds nothing.
     pub fn sweep(&mut self) -> Result<&SweepContacts, WorldError> {
         let t0 = Instant::now();
+        let cull_rigid = self.settings.self_rigid_culling;
         let CollisionWorld {
             method,
             rooms,
@@ -112,7 +113,15 @@ impl CollisionWorld {
             let (params, planes, paths) = (&cs.params, &cs.room_planes, &cs.paths);
             side_by_side(characters, |c| {
                 let c = c.get_mut().expect("no pass panicked");
-                own_sweeps(c, method, params, rooms, planes, objects, paths);
+                own_sweeps(
+                    c,
+                    (method, cull_rigid),
+                    params,
+                    rooms,
+                    planes,
+                    objects,
+                    paths,
+                );
             });
             // 2. Characters against each other.
             let (tests, pairs) =
@@ -164,11 +173,12 @@ fn swept_side(c: &mut CharacterBody) -> SweptSide<'_> {
     }
 }
 
-/// Character `c`'s sweeps against every room and every object its swept
-/// root sphere meets.
+/// Character `c`'s sweeps against every room, against itself when the world
+/// asks, and against every object its swept root sphere meets. `how`: the
+/// method, and whether the self sweep skips parts one joint moves.
 fn own_sweeps(
     c: &mut CharacterBody,
-    method: crate::pipeline::Method,
+    (method, cull_rigid): (crate::pipeline::Method, bool),
     params: &CcdParams,
     rooms: &[RigidBody],
     planes: &[Vec<StillPlane>],
@@ -215,10 +225,12 @@ fn own_sweeps(
         own.rooms.add(&c);
     }
     own.itself = FrameCounters::default();
-    if let (Some(data), Some(slot)) = (itself.as_deref(), s.itself.as_mut()) {
+    if let (Some(data), Some(slot)) = (itself.as_deref_mut(), s.itself.as_mut()) {
         let mut pass = SweptSelfPass {
             character: side.reborrow(),
             data: &data.data,
+            gaps: &mut data.gaps,
+            cull_rigid,
             params,
             ccd: &mut own.ccd,
         };
