@@ -27,6 +27,8 @@ pub mod mesh;
 pub mod pipeline;
 pub(crate) mod prefetch;
 pub mod sphere_tree;
+#[cfg(test)]
+pub(crate) mod test_rng;
 pub mod world;
 
 // The library's own name inside it: the workbench's humanoid generator,

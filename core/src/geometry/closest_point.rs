@@ -215,13 +215,7 @@ mod tests {
     /// distance, and the nearest sampled pair is not much farther.
     #[test]
     fn triangle_distance_agrees_with_dense_sampling() {
-        let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_rng::unit_floats(0x2545_f491_4f6c_dd1d);
         let samples = |t: &Triangle| {
             let [a, b, c] = t.vertices().map(|v| v.cast::<f64>());
             let n = 24;

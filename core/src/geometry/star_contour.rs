@@ -134,13 +134,8 @@ mod tests {
     #[test]
     fn a_proved_polygon_is_simple_by_brute_force() {
         // Random wobbly loops around the origin; a `true` must be simple.
-        let mut seed = 7u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 33) as f64) / ((1u64 << 31) as f64)
-        };
+        let mut unit = crate::test_rng::unit_floats(7);
+        let mut next = move || f64::from(unit());
         let (mut proved, mut refused) = (0, 0);
         for _ in 0..2000 {
             let n = 3 + (next() * 12.0) as usize;

@@ -112,13 +112,8 @@ mod tests {
     /// triangle's prism is.
     #[test]
     fn never_rejects_a_ball_that_reaches_the_triangle() {
-        let mut x = 0x1234_5678_9abc_def1u64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 40) as f32 / (1u64 << 24) as f32 - 0.5
-        };
+        let mut unit = crate::test_rng::unit_floats(0x1234_5678_9abc_def1);
+        let mut next = move || unit() - 0.5;
         let (mut rejected, mut reaching) = (0, 0);
         for _ in 0..20_000 {
             let t = Triangle::new(

@@ -68,13 +68,7 @@ pub(super) mod tests {
 
     /// `n` random triangles of about `size` in a cube of side `spread`.
     pub(in crate::sphere_tree) fn soup(seed: u64, n: usize, spread: f32, size: f32) -> TriMesh {
-        let mut x = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_rng::unit_floats(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15));
         let mut positions = Vec::new();
         let mut triangles = Vec::new();
         for t in 0..n as u32 {

@@ -877,13 +877,7 @@ mod tests {
     /// rotated-then-scaled matrices (the eigen path).
     #[test]
     fn stretch_is_a_tight_upper_bound_of_the_spectral_norm() {
-        let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f32 / (1u64 << 53) as f32
-        };
+        let mut next = crate::test_rng::unit_floats(0x2545_f491_4f6c_dd1d);
         for case in 0..2000 {
             let axis = Vector3::new(next() - 0.5, next() - 0.5, next() - 0.5);
             let r = Rotation3::from_scaled_axis(axis * 6.0).into_inner();

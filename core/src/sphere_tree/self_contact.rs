@@ -410,13 +410,7 @@ mod tests {
     /// step).
     #[test]
     fn least_stretch_bounds_are_below_the_singular_values() {
-        let mut x = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_rng::unit_floats(0x2545_f491_4f6c_dd1d);
         let mut random = || {
             let axis = Vector3::new(next() - 0.5, next() - 0.5, next() + 0.1);
             let scale = Vector3::new(0.5 + next(), 0.5 + next(), 0.5 + next());
