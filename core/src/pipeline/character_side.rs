@@ -49,7 +49,16 @@ impl CharacterSide<'_> {
     /// refitting are counted.
     #[inline]
     pub(crate) fn hierarchy<const TIMED: bool>(&mut self) -> TimedRefit<'_, TIMED> {
-        TimedRefit::new(self.tree, self.pose, self.refit)
+        self.hierarchy_and_skin().0
+    }
+
+    /// [`Self::hierarchy`] beside this frame's skinned vertices, for a pass
+    /// that reads positions while it walks.
+    #[inline]
+    pub(crate) fn hierarchy_and_skin<const TIMED: bool>(
+        &mut self,
+    ) -> (TimedRefit<'_, TIMED>, &OnDemandSkin) {
+        (TimedRefit::new(self.tree, self.pose, self.refit), self.skin)
     }
 
     /// Skins the corners of triangle `t` unless done this frame.

@@ -17,7 +17,7 @@ use crate::sphere_tree::self_traverse::traverse_self;
 use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{Hierarchy, SphereTree, Workspace};
 
-use super::character_side::{CharacterSide, TimedRefit};
+use super::character_side::CharacterSide;
 use super::counters::FrameCounters;
 use super::pass::{Pass, Traversed};
 use super::prepared_triangles::PreparedTriangles;
@@ -82,7 +82,7 @@ impl Pass for SelfPass<'_> {
                 .update(topology, |t| skin.triangle(indices[t as usize]));
         }
         let (cones, patches) = (&*self.cones, data.flat());
-        let skin = &*side.skin;
+        let (mut h, skin) = side.hierarchy_and_skin::<TIMED>();
         let position = |v: u32| skin.position(v);
         // A disk whose normals all face `d` and whose outline, seen along
         // `d`, is simple has no two triangles without a common corner that
@@ -101,7 +101,6 @@ impl Pass for SelfPass<'_> {
                 && NormalCone::common_facing(cones.of(i), cones.of(j))
                     .is_some_and(|d| proved_flat(patches.and_then(|p| p.pair_loop(i, j)), &d))
         };
-        let mut h = TimedRefit::<TIMED>::new(side.tree, side.pose, side.refit);
         let stats = traverse_self(
             topology,
             &mut h,

@@ -30,8 +30,9 @@ use crate::mesh::TriangleId;
 use super::character::CharacterTree;
 use super::node::{NodeId, SphereTree};
 use super::normal_cones::{NodeCones, NormalCone};
+use super::self_contact::Widened;
 use super::self_traverse::traverse_self;
-use super::traverse::{Hierarchy, Workspace};
+use super::traverse::Workspace;
 
 /// A boundary loop's place in [`FlatPatches`]' vertex list.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -89,7 +90,10 @@ impl FlatPatches {
         // union is a disk facing one direction at rest.
         let mut pairs: Vec<(u32, u32, LoopRange)> = Vec::new();
         let mut vertex_scratch = Vec::new();
-        let mut rest = RestSpheres { tree: topology };
+        let mut rest = Widened {
+            tree: topology,
+            by: 0.0,
+        };
         let loops = out.node_loops.clone();
         traverse_self(
             topology,
@@ -244,20 +248,6 @@ fn subtree_triangles(tree: &SphereTree, n: NodeId, out: &mut Vec<u32>) {
             Some(t) => out.push(t),
             None => stack.extend(node.children()),
         }
-    }
-}
-
-/// The rest tree as a hierarchy.
-struct RestSpheres<'a> {
-    tree: &'a SphereTree,
-}
-
-impl Hierarchy for RestSpheres<'_> {
-    fn tree(&self) -> &SphereTree {
-        self.tree
-    }
-    fn sphere(&mut self, id: NodeId) -> crate::geometry::Sphere {
-        self.tree.node(id).sphere
     }
 }
 

@@ -261,9 +261,9 @@ impl SelfContactData {
 
 /// The rest tree with every sphere widened by `by`: two spheres overlap
 /// when their triangles may lie within `2·by` of each other.
-struct Widened<'a> {
-    tree: &'a SphereTree,
-    by: f32,
+pub(super) struct Widened<'a> {
+    pub(super) tree: &'a SphereTree,
+    pub(super) by: f32,
 }
 
 impl Hierarchy for Widened<'_> {
@@ -284,14 +284,20 @@ fn joint_bounds(m: &Matrix4<f32>, coordinate_bound: f32) -> (f64, f64) {
     let u = f64::from(f32::EPSILON) / 2.0;
     let gamma8 = 8.0 * u / (1.0 - 8.0 * u);
     let a = m.fixed_view::<3, 3>(0, 0).into_owned().cast::<f64>();
-    let rows = (0..3)
-        .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
-        .fold(0.0f64, f64::max);
+    let rows = largest_row_sum(m);
     let sigma_min = 2.0 * a.determinant().abs() / a.norm_squared();
     (
         sigma_min,
         3f64.sqrt() * gamma8 * rows * f64::from(coordinate_bound),
     )
+}
+
+/// The largest row sum of `|m|` over its three spatial rows: a skinned
+/// coordinate is at most this times the largest bind coordinate.
+fn largest_row_sum(m: &Matrix4<f32>) -> f64 {
+    (0..3)
+        .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
+        .fold(0.0f64, f64::max)
 }
 
 /// The least rest gap a pair must have to stay farther apart than `slack`
@@ -353,11 +359,7 @@ impl RigidGaps {
         let largest = start
             .iter()
             .chain(end)
-            .map(|m| {
-                (0..3)
-                    .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
-                    .fold(0.0f64, f64::max)
-            })
+            .map(largest_row_sum)
             .fold(0.0f64, f64::max)
             * f64::from(coordinate_bound);
         let tolerance = tolerance.max(16.0 * 1.5e-14 * largest);
