@@ -5,6 +5,7 @@
 use std::path::Path;
 
 use cornertree::character::{Character, SkinningModel};
+use cornertree::choice::Choice;
 use cornertree::io::load_character;
 use cornertree::sphere_tree::refit::RefitRule;
 use cornertree_workbench::humanoid::{HumanoidParams, generate_humanoid};
@@ -22,7 +23,7 @@ fn check_all_clips(c: &Character) {
     for clip in &c.clips {
         for (model, refit_rule) in [SkinningModel::Paper, SkinningModel::Linear]
             .into_iter()
-            .flat_map(|m| [RefitRule::PaperCorners, RefitRule::JointBalls].map(|r| (m, r)))
+            .flat_map(|m| RefitRule::ALL.iter().map(move |&r| (m, r)))
         {
             let opts = AnimateOptions {
                 model,

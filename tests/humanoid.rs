@@ -4,6 +4,7 @@
 use std::collections::HashMap;
 
 use cornertree::character::{Character, PoseBuffers, SkinningModel};
+use cornertree::choice::Choice;
 use cornertree::mesh::dedup_edges;
 use cornertree::sphere_tree::BuildParams;
 use cornertree::sphere_tree::character::CharacterTree;
@@ -317,7 +318,7 @@ fn containment(c: &Character, fps: f32, only_middle: bool) -> (u64, u64) {
     let (mut violations, mut checks) = (0, 0);
     for (model, rule) in [SkinningModel::Paper, SkinningModel::Linear]
         .into_iter()
-        .flat_map(|m| [RefitRule::PaperCorners, RefitRule::JointBalls].map(|r| (m, r)))
+        .flat_map(|m| RefitRule::ALL.iter().map(move |&r| (m, r)))
     {
         let ct = CharacterTree::build_with_rule(c, &dedup, model, BuildParams::default(), rule);
         let sets = VertexSets::new(&ct.tree, &c.mesh);

@@ -47,9 +47,11 @@ pub struct InspectArgs {
     /// Skinning model: glTF linear blend skinning, or the paper's one-joint model.
     #[arg(long, value_parser = choice::<SkinningModel>(), default_value = "linear", requires = "animate")]
     pub skinning: SkinningModel,
-    /// How spheres are refit: the paper's corner rule (§3), or joint balls
+    /// How spheres are refit: the paper's corner rule (§3), joint balls
     /// (ours: a ball per joint over the vertices it moves, moved by that
-    /// joint; what pruned-tri-tri and undivided-pruned-tri-tri use).
+    /// joint), or blended balls (ours: those balls blended by the corners
+    /// of the node's weight ranges; what pruned-tri-tri and
+    /// undivided-pruned-tri-tri use).
     #[arg(
         long,
         value_parser = choice::<RefitRule>(),

@@ -166,12 +166,14 @@ impl Method {
 
     /// How the character's spheres are refit: the paper's corner rule (§3)
     /// for the paper's methods, so that their spheres and counts stay §3's;
-    /// joint balls ([`RefitRule::JointBalls`]: a ball per joint, moved by
-    /// that joint) for ours, whose spheres hug a bent limb
-    /// (docs/performance-journal.md, "Joint balls").
+    /// blended balls ([`RefitRule::BlendedBalls`]: a ball per joint, moved
+    /// by that joint, blended by the corners of the node's weight ranges)
+    /// for ours, whose spheres hug a bent limb and ignore a far joint's
+    /// small weight (docs/performance-journal.md, "Joint balls" and
+    /// "Blended balls").
     pub fn refit_rule(self) -> RefitRule {
         match self {
-            Method::PrunedTriTri | Method::UndividedPrunedTriTri => RefitRule::JointBalls,
+            Method::PrunedTriTri | Method::UndividedPrunedTriTri => RefitRule::BlendedBalls,
             _ => RefitRule::PaperCorners,
         }
     }

@@ -160,6 +160,16 @@ pub(super) enum Rule {
     /// [`RefitRule::JointBalls`]: the node's balls are
     /// `balls[start..end]`; `reach` as for [`Rule::Corners`].
     JointBalls { start: u32, end: u32, reach: f32 },
+    /// [`RefitRule::BlendedBalls`]: the node's balls are `balls[start..end]`
+    /// (one per slot joint); its `count` corners are weight vectors over
+    /// those slots, stored one after the other from `weights[wstart]`.
+    BlendedBalls {
+        start: u32,
+        end: u32,
+        wstart: u32,
+        count: u32,
+        reach: f32,
+    },
     /// [`Rule::JointBalls`] with one ball, kept in the rule itself (one
     /// cache line fewer to fetch: about two thirds of a humanoid's nodes).
     OneBall {
@@ -188,16 +198,26 @@ pub enum RefitRule {
     /// vertices that joint moves (non-zero weight); the posed sphere holds
     /// every ball moved by its joint (module doc, "Joint balls").
     JointBalls,
+    /// Ours: the joint balls blended by the corners of the node's weight
+    /// ranges: at each corner the ball `Σ w_j·(moved ball j)`; the posed
+    /// sphere holds those (module doc, "Blended balls"). Tighter than both
+    /// where a node's vertices carry small weights of joints that turn away.
+    BlendedBalls,
 }
 
 impl Choice for RefitRule {
     const WHAT: &'static str = "refit rule";
-    const ALL: &'static [Self] = &[RefitRule::PaperCorners, RefitRule::JointBalls];
+    const ALL: &'static [Self] = &[
+        RefitRule::PaperCorners,
+        RefitRule::JointBalls,
+        RefitRule::BlendedBalls,
+    ];
 
     fn name(self) -> &'static str {
         match self {
             RefitRule::PaperCorners => "paper-corners",
             RefitRule::JointBalls => "joint-balls",
+            RefitRule::BlendedBalls => "blended-balls",
         }
     }
 
@@ -207,6 +227,9 @@ impl Choice for RefitRule {
                 "the paper's: the rest centre through every corner blend of the weight ranges, the whole rest radius (§3)"
             }
             RefitRule::JointBalls => "ours: one rest ball per joint, moved by its joint",
+            RefitRule::BlendedBalls => {
+                "ours: the joint balls blended by the corners of the node's weight ranges"
+            }
         }
     }
 }
@@ -272,7 +295,7 @@ impl RefitData {
         // rules only).
         let corner_trees = match rule {
             RefitRule::PaperCorners => joint_trees,
-            RefitRule::JointBalls => &[],
+            RefitRule::JointBalls | RefitRule::BlendedBalls => &[],
         };
         let sub: Vec<Vec<WeightSummary>> = corner_trees
             .iter()
@@ -309,7 +332,9 @@ impl RefitData {
         // Vertices under every node (joint balls only).
         let vertex_sets = match rule {
             RefitRule::PaperCorners => None,
-            RefitRule::JointBalls => Some(VertexSets::new(tree, &character.mesh)),
+            RefitRule::JointBalls | RefitRule::BlendedBalls => {
+                Some(VertexSets::new(tree, &character.mesh))
+            }
         };
         let mut data = RefitData {
             weight_sum_error: delta,
@@ -317,12 +342,33 @@ impl RefitData {
         };
         // `ε`: how far a corner's weights sum from 1.
         let mut corner_sum_error = 0.0f64;
+        let corners_of = |summary: &WeightSummary, sum_error: &mut f64| {
+            let corners = match model {
+                SkinningModel::Paper => paper_corners(&character.skeleton, summary),
+                SkinningModel::Linear => polytope_corners(summary, delta),
+            };
+            for c in &corners {
+                let sum: f64 = c.iter().map(|e| e.1).sum();
+                let rounding =
+                    c.len() as f64 * f64::EPSILON * c.iter().map(|e| e.1.abs()).sum::<f64>();
+                *sum_error = sum_error.max((sum - 1.0).abs() + rounding);
+            }
+            corners
+        };
         for (i, o) in origin.iter().enumerate() {
             debug_assert!(i < tree.len());
             let rest = tree.node(NodeId(i as u32)).sphere;
             let reach = round_up(rest.center.coords.map(|x| x as f64).norm() + rest.radius as f64);
             if let Some(sets) = &vertex_sets {
-                data.push_joint_balls(character, model, sets.of(i), reach);
+                let vertices = sets.of(i);
+                let balls = rest_balls(character, model, vertices);
+                if rule == RefitRule::BlendedBalls {
+                    let summary = WeightSummary::of_vertices(character, model, vertices);
+                    let corners = corners_of(&summary, &mut corner_sum_error);
+                    data.push_blended_balls(balls, &corners, reach);
+                } else {
+                    data.push_joint_balls(balls, reach);
+                }
                 continue;
             }
             match *o {
@@ -330,18 +376,7 @@ impl RefitData {
                     data.rules.push(Rule::FromChildren);
                 }
                 Origin::Joint(t, n) => {
-                    let summary = &sub[t][n.index()];
-                    let corners = match model {
-                        SkinningModel::Paper => paper_corners(&character.skeleton, summary),
-                        SkinningModel::Linear => polytope_corners(summary, delta),
-                    };
-                    for c in &corners {
-                        let sum: f64 = c.iter().map(|e| e.1).sum();
-                        let rounding = c.len() as f64
-                            * f64::EPSILON
-                            * c.iter().map(|e| e.1.abs()).sum::<f64>();
-                        corner_sum_error = corner_sum_error.max((sum - 1.0).abs() + rounding);
-                    }
+                    let corners = corners_of(&sub[t][n.index()], &mut corner_sum_error);
                     data.push_corners(&corners, reach);
                 }
             }
@@ -365,9 +400,12 @@ impl RefitData {
     /// Whether any node is refit by joint balls (which read each joint's
     /// matrix rows in `f64`, [`RefitState`](super::refit::RefitState)'s `mats`).
     pub(super) fn moves_joint_balls(&self) -> bool {
-        self.rules
-            .iter()
-            .any(|r| matches!(r, Rule::JointBalls { .. } | Rule::OneBall { .. }))
+        self.rules.iter().any(|r| {
+            matches!(
+                r,
+                Rule::JointBalls { .. } | Rule::BlendedBalls { .. } | Rule::OneBall { .. }
+            )
+        })
     }
 
     /// Nodes refit by [`Rule::Rigid`].
@@ -460,43 +498,38 @@ impl RefitData {
     }
 }
 
-impl RefitData {
-    /// Adds a [`Rule::JointBalls`] node over the bind vertices `vertices`:
-    /// per slot joint, the minimal ball of the vertices it moves.
-    fn push_joint_balls(
-        &mut self,
-        character: &Character,
-        model: SkinningModel,
-        vertices: &[u32],
-        reach: f32,
-    ) {
-        let bind = character.mesh.positions();
-        let mut moved: Vec<(u16, u32)> = Vec::new();
-        for &v in vertices {
-            let vi = v as usize;
-            match model {
-                SkinningModel::Linear => {
-                    moved.extend(character.influences.of(vi).map(|(j, _)| (j.0, v)));
+/// Per slot joint of the bind vertices `vertices`, the minimal ball of the
+/// ones it moves (non-zero weight; the paper's model: the vertex's joint if
+/// `w > 0`, its parent or the base frame if `w < 1`), by joint.
+fn rest_balls(character: &Character, model: SkinningModel, vertices: &[u32]) -> Vec<JointBall> {
+    let bind = character.mesh.positions();
+    let mut moved: Vec<(u16, u32)> = Vec::new();
+    for &v in vertices {
+        let vi = v as usize;
+        match model {
+            SkinningModel::Linear => {
+                moved.extend(character.influences.of(vi).map(|(j, _)| (j.0, v)));
+            }
+            SkinningModel::Paper => {
+                // `(1 − w)·M_p + w·M_a`: a term of weight zero adds
+                // an exact zero.
+                let (a, w) = (character.paper.joint(vi), character.paper.weight(vi));
+                if w > 0.0 {
+                    moved.push((a.0, v));
                 }
-                SkinningModel::Paper => {
-                    // `(1 − w)·M_p + w·M_a`: a term of weight zero adds
-                    // an exact zero.
-                    let (a, w) = (character.paper.joint(vi), character.paper.weight(vi));
-                    if w > 0.0 {
-                        moved.push((a.0, v));
-                    }
-                    if w < 1.0 {
-                        let p = character.skeleton.parent(a).map_or(BASE, |p| p.0);
-                        moved.push((p, v));
-                    }
+                if w < 1.0 {
+                    let p = character.skeleton.parent(a).map_or(BASE, |p| p.0);
+                    moved.push((p, v));
                 }
             }
         }
-        moved.sort_unstable();
-        moved.dedup();
-        let start = self.balls.len();
-        let mut points = Vec::new();
-        for group in moved.chunk_by(|x, y| x.0 == y.0) {
+    }
+    moved.sort_unstable();
+    moved.dedup();
+    let mut points = Vec::new();
+    moved
+        .chunk_by(|x, y| x.0 == y.0)
+        .map(|group| {
             points.clear();
             points.extend(group.iter().map(|&(_, v)| bind[v as usize]));
             let s = points_sphere(&points);
@@ -505,16 +538,35 @@ impl RefitData {
                 .iter()
                 .map(|p| crate::geometry::sphere::distance_f64(p, &s.center))
                 .fold(s.radius as f64, f64::max);
-            self.balls.push(JointBall {
+            JointBall {
                 center: s.center,
                 radius: round_up(r),
                 joint: group[0].0,
-            });
+            }
+        })
+        .collect()
+}
+
+impl WeightSummary {
+    /// The summary of the vertex set `vertices` (not empty).
+    fn of_vertices(character: &Character, model: SkinningModel, vertices: &[u32]) -> Self {
+        let absent_is_zero = model == SkinningModel::Linear;
+        let mut out = WeightSummary::of_vertex(character, model, vertices[0] as usize);
+        for &v in &vertices[1..] {
+            out = out.merge(
+                &WeightSummary::of_vertex(character, model, v as usize),
+                absent_is_zero,
+            );
         }
-        let end = self.balls.len();
-        self.max_slots = self.max_slots.max(end - start);
-        if end - start == 1 {
-            let b = self.balls.pop().expect("one ball");
+        out
+    }
+}
+
+impl RefitData {
+    /// Adds a [`Rule::JointBalls`] node with rest balls `balls` (a
+    /// [`Rule::OneBall`] if there is one).
+    fn push_joint_balls(&mut self, balls: Vec<JointBall>, reach: f32) {
+        if let [b] = balls[..] {
             self.rules.push(Rule::OneBall {
                 center: b.center,
                 radius: b.radius,
@@ -523,13 +575,65 @@ impl RefitData {
             });
             return;
         }
+        let start = self.balls.len();
+        self.max_slots = self.max_slots.max(balls.len());
+        self.balls.extend(balls);
         self.rules.push(Rule::JointBalls {
             start: start as u32,
-            end: end as u32,
+            end: self.balls.len() as u32,
+            reach,
+        });
+    }
+
+    /// Adds a [`Rule::BlendedBalls`] node: rest balls `balls` blended by the
+    /// weight vectors `corners`. One ball: a [`Rule::OneBall`]. A corner
+    /// with weight on a joint that moves none of the node's vertices, or
+    /// more corners than [`MAX_BLENDED_CORNERS`]: the balls alone
+    /// ([`Rule::JointBalls`], the simplex's corners).
+    fn push_blended_balls(
+        &mut self,
+        balls: Vec<JointBall>,
+        corners: &[Vec<(u16, f64)>],
+        reach: f32,
+    ) {
+        let k = balls.len();
+        let mut weights = vec![0.0f64; k * corners.len()];
+        let fits = k > 1
+            && corners.len() <= MAX_BLENDED_CORNERS
+            && corners
+                .iter()
+                .zip(weights.chunks_exact_mut(k))
+                .all(|(c, w)| {
+                    c.iter()
+                        .all(|&(j, x)| match balls.iter().position(|b| b.joint == j) {
+                            Some(at) => {
+                                w[at] += x;
+                                true
+                            }
+                            None => x == 0.0,
+                        })
+                });
+        if !fits {
+            self.push_joint_balls(balls, reach);
+            return;
+        }
+        let (start, wstart) = (self.balls.len(), self.weights.len());
+        self.max_slots = self.max_slots.max(k);
+        self.max_corners = self.max_corners.max(corners.len());
+        self.balls.extend(balls);
+        self.weights.extend(weights);
+        self.rules.push(Rule::BlendedBalls {
+            start: start as u32,
+            end: self.balls.len() as u32,
+            wstart: wstart as u32,
+            count: corners.len() as u32,
             reach,
         });
     }
 }
+
+/// Most corners a [`Rule::BlendedBalls`] node blends (more: the balls alone).
+pub const MAX_BLENDED_CORNERS: usize = 256;
 
 /// The paper's corners: per joint `a` with weights in `[lo, hi]`, the blends
 /// `(1 − lo)·M_p + lo·M_a` and `(1 − hi)·M_p + hi·M_a` (one when equal;
