@@ -587,9 +587,9 @@ impl RefitData {
 
     /// Adds a [`Rule::BlendedBalls`] node: rest balls `balls` blended by the
     /// weight vectors `corners`. One ball: a [`Rule::OneBall`]. A corner
-    /// with weight on a joint that moves none of the node's vertices, or
-    /// more corners than [`MAX_BLENDED_CORNERS`]: the balls alone
-    /// ([`Rule::JointBalls`], the simplex's corners).
+    /// with weight on a joint that moves none of the node's vertices, more
+    /// corners than [`MAX_BLENDED_CORNERS`], or only the simplex's corners
+    /// (a weight 1 each): the balls alone ([`Rule::JointBalls`]).
     fn push_blended_balls(
         &mut self,
         balls: Vec<JointBall>,
@@ -613,7 +613,12 @@ impl RefitData {
                             None => x == 0.0,
                         })
                 });
-        if !fits {
+        // Corners that are the simplex's (each a single weight 1) blend
+        // nothing: the balls alone give the same hull for less work.
+        let simplex = weights
+            .chunks_exact(k)
+            .all(|w| w.iter().all(|&x| x == 0.0 || x == 1.0) && w.iter().sum::<f64>() == 1.0);
+        if !fits || simplex {
             self.push_joint_balls(balls, reach);
             return;
         }
