@@ -106,10 +106,10 @@
 //! plus the rounding margin `κ·ρ` (the centres are computed as the corner
 //! rule computes its points: each `q_j` once, then blended; `|c_j| ≤ ‖c‖ + r`
 //! as a ball's centre lies in the hull of its vertices). A node with one
-//! ball is [`Rule::OneBall`]; a node with more than
-//! [`MAX_BLENDED_CORNERS`] corners (or a corner weighting a joint that moves
-//! none of its vertices) keeps the balls alone, which are the simplex
-//! corners' blend. On CesiumMan (four influences a vertex) the spheres at
+//! ball keeps its one moved ball (`Rule::OneBall`); a node with more than
+//! [`MAX_BLENDED_CORNERS`] corners, a corner weighting a joint that moves
+//! none of its vertices, or only the simplex's corners (a weight 1 each)
+//! keeps the balls alone, which are the simplex corners' blend. On CesiumMan (four influences a vertex) the spheres at
 //! depths 4 to 8 went from 1.6–2.2 to 1.0–1.6 times the minimal sphere of
 //! their posed vertices (docs/performance-journal.md, "Blended balls").
 //!

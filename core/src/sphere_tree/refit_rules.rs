@@ -637,7 +637,8 @@ impl RefitData {
     }
 }
 
-/// Most corners a [`Rule::BlendedBalls`] node blends (more: the balls alone).
+/// Most corners a node refit by [`RefitRule::BlendedBalls`] blends (more:
+/// the balls alone, as [`RefitRule::JointBalls`]).
 pub const MAX_BLENDED_CORNERS: usize = 256;
 
 /// The paper's corners: per joint `a` with weights in `[lo, hi]`, the blends
