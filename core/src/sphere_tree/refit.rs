@@ -457,6 +457,27 @@ fn corner_sphere(
     (center, radius_up(radius * (1.0 + F64_SLACK)))
 }
 
+/// The sphere around the `f64` balls `(centres[i], radii[i])`: its centre
+/// the middle of their box, rounded to `f32`, and the largest `f64`
+/// distance from that centre to a ball's far side.
+#[inline]
+fn around_balls(centres: &[V64], radii: &[f64]) -> (Point, f64) {
+    let (mut lo, mut hi) = (V64::repeat(f64::MAX), V64::repeat(f64::MIN));
+    for (q, &r) in centres.iter().zip(radii) {
+        lo = lo.inf(&q.add_scalar(-r));
+        hi = hi.sup(&q.add_scalar(r));
+    }
+    let mid = (lo + hi) * 0.5;
+    let center = Point::new(mid.x as f32, mid.y as f32, mid.z as f32);
+    let cw = widen(&center);
+    let hold = centres
+        .iter()
+        .zip(radii)
+        .map(|(q, r)| (q - cw).norm_squared().sqrt() + r)
+        .fold(0.0f64, f64::max);
+    (center, hold)
+}
+
 /// A joint-ball rule's sphere (module doc, "Joint balls") about `center`:
 /// `hold` is the largest `f64` distance from it to a moved ball's far side,
 /// `largest` holds the balls' joints' largest `α` and `τ`, and the radius
@@ -581,25 +602,16 @@ impl Refitter<'_> {
                 // Each ball moved by its joint: centre `M_j·c_j`, radius
                 // `σ_j·r_j`; the sphere's centre is the middle of their box.
                 let mut largest = JointNorms::ZERO;
-                let (mut lo, mut hi) = (V64::repeat(f64::MAX), V64::repeat(f64::MIN));
                 for (i, b) in balls.iter().enumerate() {
                     let (m, n) = self.slot_rows(b.joint);
                     let (q, n) = (apply_rows(m, &widen(&b.center)), *n);
-                    let r = b.radius as f64 * n.stretch;
-                    lo = lo.inf(&q.add_scalar(-r));
-                    hi = hi.sup(&q.add_scalar(r));
                     self.state.slot_points[i] = q;
+                    self.state.slot_radii[i] = b.radius as f64 * n.stretch;
                     largest = largest.max(&n);
                 }
-                let mid = (lo + hi) * 0.5;
-                let center = Point::new(mid.x as f32, mid.y as f32, mid.z as f32);
-                let cw = widen(&center);
-                let mut hold = 0.0f64;
-                for (b, q) in balls.iter().zip(&self.state.slot_points) {
-                    let (_, n) = self.slot_rows(b.joint);
-                    let r = b.radius as f64 * n.stretch;
-                    hold = hold.max((q - cw).norm_squared().sqrt() + r);
-                }
+                let k = balls.len();
+                let (center, hold) =
+                    around_balls(&self.state.slot_points[..k], &self.state.slot_radii[..k]);
                 ball_sphere(data, center, hold, &largest, reach)
             }
             Rule::BlendedBalls {
@@ -630,7 +642,6 @@ impl Refitter<'_> {
                     &mut self.state.corner_points[..n],
                     &mut self.state.corner_radii[..n],
                 );
-                let (mut lo, mut hi) = (V64::repeat(f64::MAX), V64::repeat(f64::MIN));
                 for ((p, pr), w) in corners
                     .iter_mut()
                     .zip(radii.iter_mut())
@@ -641,18 +652,9 @@ impl Refitter<'_> {
                         c += q[i] * w[i];
                         r += w[i].abs() * qr[i];
                     }
-                    lo = lo.inf(&c.add_scalar(-r));
-                    hi = hi.sup(&c.add_scalar(r));
                     (*p, *pr) = (c, r);
                 }
-                let mid = (lo + hi) * 0.5;
-                let center = Point::new(mid.x as f32, mid.y as f32, mid.z as f32);
-                let cw = widen(&center);
-                let hold = corners
-                    .iter()
-                    .zip(radii.iter())
-                    .map(|(p, r)| (p - cw).norm_squared().sqrt() + r)
-                    .fold(0.0f64, f64::max);
+                let (center, hold) = around_balls(corners, radii);
                 ball_sphere(data, center, hold, &largest, reach)
             }
             Rule::OneBall {

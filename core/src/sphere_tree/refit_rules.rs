@@ -304,18 +304,11 @@ impl RefitData {
                 for i in (0..t.len()).rev() {
                     let n = t.node(NodeId(i as u32));
                     s[i] = match n.primitive() {
-                        Some(p) => {
-                            let tri = character.mesh.indices()[p as usize];
-                            let mut acc =
-                                WeightSummary::of_vertex(character, model, tri[0] as usize);
-                            for &v in &tri[1..] {
-                                acc = acc.merge(
-                                    &WeightSummary::of_vertex(character, model, v as usize),
-                                    absent_is_zero,
-                                );
-                            }
-                            acc
-                        }
+                        Some(p) => WeightSummary::of_vertices(
+                            character,
+                            model,
+                            &character.mesh.indices()[p as usize],
+                        ),
                         None => {
                             let mut ch = n.children();
                             let first = ch.next().unwrap() as usize;
