@@ -277,9 +277,10 @@ pub(crate) struct Nearest {
 
 /// The traversal of [`traverse_guarded`] with a ray as the second tree's
 /// leaf: every leaf reached is tested at once (`triangle` fetches, and
-/// skins, its triangle), and the guard meets spheres with the ray cut at
-/// the best hit so far (rounded up to `f32`: a tie is kept, never cut).
-/// The same traversal as every pass; only its closures differ.
+/// skins, its triangle), and spheres are met with the ray cut at the best
+/// hit so far (rounded up to `f32`: a tie is kept, never cut). The order's
+/// key is the ray's sphere test ([`NearestFirst`]), so the guard has none
+/// of its own. The same traversal as every pass; only its closures differ.
 fn nearest<H: Hierarchy>(
     h: &mut H,
     node: &mut SphereTree,
@@ -289,22 +290,14 @@ fn nearest<H: Hierarchy>(
 ) -> Nearest {
     let reach = Cell::new(ray.max_distance);
     let best = Cell::new((f64::INFINITY, None::<LeafPair>));
-    let (guards, tests) = (Cell::new(0u64), Cell::new(0u64));
+    let tests = Cell::new(0u64);
     let order = NearestFirst::new(ray, &reach);
     let stats = traverse_ordered(
         h,
         node,
         ws,
         &order,
-        |_, s| {
-            if s.radius == f32::INFINITY {
-                return true;
-            }
-            guards.set(guards.get() + 1);
-            let mut r = *ray;
-            r.max_distance = reach.get();
-            r.reaches_sphere(s)
-        },
+        |_, _| true,
         |p| {
             tests.set(tests.get() + 1);
             let mut r = *ray;
@@ -319,21 +312,28 @@ fn nearest<H: Hierarchy>(
     );
     Nearest {
         stats,
-        guard_tests: guards.get(),
+        guard_tests: order.tests.get(),
         triangle_tests: tests.get(),
         leaf: best.get().1,
     }
 }
 
+/// The key of a sphere a ray cannot meet: not a number, so that
+/// `key <= reach` is false for every reach, an infinite one included.
+const MISSED: f32 = f32::NAN;
+
 /// A ray's spheres opened nearest first, and one the ray can enter only
-/// beyond the best hit found since it was pushed dropped unopened
-/// ([`Order`]).
+/// beyond the best hit so far dropped unopened ([`Order`]). The key is the
+/// ray's one test of a sphere: a sphere the ray's line passes by, or one
+/// wholly behind its origin, gets [`MISSED`], which no reach keeps.
 struct NearestFirst<'r> {
     /// The ray's origin, and its direction made a unit vector, in `f64`.
     origin: Vector3<f64>,
     direction: Vector3<f64>,
     /// The best hit's distance so far (rounded up), or the ray's length.
     reach: &'r Cell<f32>,
+    /// Spheres tested (keys of finite spheres computed).
+    tests: Cell<u64>,
 }
 
 impl<'r> NearestFirst<'r> {
@@ -343,6 +343,7 @@ impl<'r> NearestFirst<'r> {
             origin: ray.origin.coords.cast::<f64>(),
             direction: d / d.norm(),
             reach,
+            tests: Cell::new(0),
         }
     }
 }
@@ -355,23 +356,32 @@ impl Order for NearestFirst<'_> {
     /// widened by a billionth, the square widened by 10⁻¹² of `|m|² + r²`,
     /// and the result lowered by a millionth of `|m|₁ + r` (`f64` rounding
     /// here is below 10⁻¹⁵ of those sizes; the ray's `f32` direction, with
-    /// which hits are measured, is a unit vector within 10⁻⁷). A ray that
-    /// passes by the sphere enters it nowhere: its key is `along`, less
-    /// the same margin.
+    /// which hits are measured, is a unit vector within 10⁻⁷). `+∞` where
+    /// the line misses the widened sphere (`r² − across²` below zero) or
+    /// leaves it before the origin (`along + √… ` plus the margin below
+    /// zero): the ray cannot meet it.
     #[inline]
     fn key(&self, s: &Sphere) -> f32 {
         if s.radius == f32::INFINITY {
             return f32::NEG_INFINITY;
         }
+        self.tests.set(self.tests.get() + 1);
         let m = s.center.coords.cast::<f64>() - self.origin;
         let along = m.dot(&self.direction);
         let across2 = (m - self.direction * along).norm_squared();
         let r = f64::from(s.radius) * (1.0 + 1e-9);
         let m2 = m.norm_squared();
         let h2 = r * r - across2 + 1e-12 * (m2 + r * r);
-        let h = if h2 > 0.0 { h2.sqrt() } else { 0.0 };
+        if h2 < 0.0 {
+            return MISSED;
+        }
+        let h = h2.sqrt();
         let far = m.x.abs() + m.y.abs() + m.z.abs();
-        let enter = along - h - 1e-6 * (far + r);
+        let margin = 1e-6 * (far + r);
+        if along + h + margin < 0.0 {
+            return MISSED;
+        }
+        let enter = along - h - margin;
         // Rounded down to `f32`.
         let k = enter as f32;
         if f64::from(k) > enter {

@@ -176,9 +176,13 @@ pub trait Order {
     /// were tested, last first, and no key kept).
     const ORDERED: bool;
     /// The key of a pair whose `a` node has sphere `s`: smaller keys are
-    /// opened first.
+    /// opened first. Computed once per pair that passes the sphere test,
+    /// before the guard: an order may rule a pair out here (a key `keep`
+    /// refuses) and so spare the guard its own test.
     fn key(&self, s: &Sphere) -> f32;
-    /// Whether a pair pushed with `key` is still to be opened.
+    /// Whether a pair with `key` is still to be opened: asked before the
+    /// pair is pushed and again when it is popped. Once `false` for a key,
+    /// it must stay `false` for the rest of the traversal.
     fn keep(&self, key: f32) -> bool;
 }
 
@@ -325,24 +329,33 @@ where
                         a.tested(NodeId(c));
                         b.tested(j);
                         let sc = a.sphere(NodeId(c));
-                        if sc.overlaps(&sb) && guard(NodeId(c), j, &sc) {
+                        if !sc.overlaps(&sb) {
+                            continue;
+                        }
+                        let key = if O::ORDERED { order.key(&sc) } else { 0.0 };
+                        if (!O::ORDERED || order.keep(key)) && guard(NodeId(c), j, &sc) {
                             ws.stack.push((NodeId(c), j));
                             if O::ORDERED {
-                                ws.keys.push(order.key(&sc));
+                                ws.keys.push(key);
                             }
                             prefetch_next(a, b, &marks, NodeId(c), j, sc.radius, sb.radius);
                         }
                     }
                 } else {
+                    // The pairs' `a` sphere is `sa` for every child.
+                    let key = if O::ORDERED { order.key(&sa) } else { 0.0 };
                     for c in nb.children() {
                         stats.sphere_tests += 1;
                         a.tested(i);
                         b.tested(NodeId(c));
                         let sc = b.sphere(NodeId(c));
-                        if sa.overlaps(&sc) && guard(i, NodeId(c), &sa) {
+                        if sa.overlaps(&sc)
+                            && (!O::ORDERED || order.keep(key))
+                            && guard(i, NodeId(c), &sa)
+                        {
                             ws.stack.push((i, NodeId(c)));
                             if O::ORDERED {
-                                ws.keys.push(order.key(&sa));
+                                ws.keys.push(key);
                             }
                             prefetch_next(a, b, &marks, i, NodeId(c), sa.radius, sc.radius);
                         }
