@@ -52,10 +52,20 @@ impl Hierarchy for SphereTree {
     }
 }
 
+/// A pair of nodes waiting to be opened, with the spheres it was tested
+/// with (so opening it asks neither hierarchy for them again: a sphere is
+/// the same all pass long, and asking costs a refit check, a frame change
+/// or a sweep).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Pending {
+    pair: (NodeId, NodeId),
+    spheres: (Sphere, Sphere),
+}
+
 /// Scratch space kept between queries.
 #[derive(Clone, Debug, Default)]
 pub struct Workspace {
-    pub(super) stack: Vec<(NodeId, NodeId)>,
+    pub(super) stack: Vec<Pending>,
     /// Each stacked pair's key, for an ordered traversal ([`Order`]) only.
     keys: Vec<f32>,
     /// The nodes still to walk of a tree traversed against itself
@@ -288,13 +298,21 @@ where
     stats.sphere_tests += 1;
     a.tested(start.0);
     b.tested(start.1);
-    if a.sphere(start.0).overlaps(&b.sphere(start.1)) {
-        ws.stack.push(start);
+    let spheres = (a.sphere(start.0), b.sphere(start.1));
+    if spheres.0.overlaps(&spheres.1) {
+        ws.stack.push(Pending {
+            pair: start,
+            spheres,
+        });
         if O::ORDERED {
             ws.keys.push(f32::NEG_INFINITY);
         }
     }
-    while let Some((i, j)) = ws.stack.pop() {
+    while let Some(Pending {
+        pair: (i, j),
+        spheres: (sa, sb),
+    }) = ws.stack.pop()
+    {
         if O::ORDERED && !order.keep(ws.keys.pop().unwrap_or(f32::NEG_INFINITY)) {
             continue;
         }
@@ -318,9 +336,8 @@ where
                 });
             }
             _ => {
-                let sa = a.sphere(i);
                 // A group's leaf is met by the group's sphere.
-                let sb = grouped.map_or_else(|| b.sphere(j), |(_, s)| s);
+                let sb = grouped.map_or(sb, |(_, s)| s);
                 let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
                 let pushed_from = ws.stack.len();
                 if open_a {
@@ -334,7 +351,10 @@ where
                         }
                         let key = if O::ORDERED { order.key(&sc) } else { 0.0 };
                         if (!O::ORDERED || order.keep(key)) && guard(NodeId(c), j, &sc) {
-                            ws.stack.push((NodeId(c), j));
+                            ws.stack.push(Pending {
+                                pair: (NodeId(c), j),
+                                spheres: (sc, sb),
+                            });
                             if O::ORDERED {
                                 ws.keys.push(key);
                             }
@@ -353,7 +373,10 @@ where
                             && (!O::ORDERED || order.keep(key))
                             && guard(i, NodeId(c), &sa)
                         {
-                            ws.stack.push((i, NodeId(c)));
+                            ws.stack.push(Pending {
+                                pair: (i, NodeId(c)),
+                                spheres: (sa, sc),
+                            });
                             if O::ORDERED {
                                 ws.keys.push(key);
                             }
