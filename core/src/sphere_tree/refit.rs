@@ -837,6 +837,35 @@ mod tests {
         state.spheres
     }
 
+    /// Poses `c` at eight points of its first clip, stretched and placed far
+    /// away ([`pose_stretched_far_away`]), skins it under `model`, refits
+    /// `tight` and `loose`, asserts that `tight`'s spheres hold every
+    /// skinned vertex (tolerance 0), and hands each step's two sets of
+    /// spheres to `compare`.
+    fn each_stretched_pose(
+        c: &Character,
+        model: SkinningModel,
+        (tight, loose): (&CharacterTree, &CharacterTree),
+        label: &str,
+        mut compare: impl FnMut(usize, &[Sphere], &[Sphere]),
+    ) {
+        let sets = VertexSets::new(&tight.tree, &c.mesh);
+        let mut b = PoseBuffers::new(c);
+        for step in 0..8 {
+            pose_stretched_far_away(c, &mut b, step as f32 / 8.0);
+            b.skin_all(c, model);
+            let (st, sl) = (every_sphere(tight, c, &b), every_sphere(loose, c, &b));
+            let held = sets.check(&st, &b.positions, 0.0);
+            assert!(held.checks > 0);
+            assert_eq!(
+                held.violations, 0,
+                "{label} step {step}: worst excess {}",
+                held.worst_excess
+            );
+            compare(step, &st, &sl);
+        }
+    }
+
     /// `Rule::Rigid` gives the very spheres of the general rule it stands
     /// for, bit for bit, on a walking humanoid placed far from the origin
     /// (both skinning models), and stands for over half the nodes.
@@ -898,23 +927,12 @@ mod tests {
             };
             let balls = build(RefitRule::JointBalls);
             let corners = build(RefitRule::PaperCorners);
-            let sets = VertexSets::new(&balls.tree, &c.mesh);
-            let mut b = PoseBuffers::new(&c);
-            for step in 0..8 {
-                pose_stretched_far_away(&c, &mut b, step as f32 / 8.0);
-                b.skin_all(&c, model);
-                let (sb, sc) = (every_sphere(&balls, &c, &b), every_sphere(&corners, &c, &b));
-                let held = sets.check(&sb, &b.positions, 0.0);
-                assert!(held.checks > 0);
-                assert_eq!(
-                    held.violations, 0,
-                    "{model:?} step {step}: worst excess {}",
-                    held.worst_excess
-                );
-                assert!(sb[0].radius < sc[0].radius, "{model:?} step {step}: root");
+            let label = format!("{model:?}");
+            each_stretched_pose(&c, model, (&balls, &corners), &label, |step, sb, sc| {
+                assert!(sb[0].radius < sc[0].radius, "{label} step {step}: root");
                 let sum = |s: &[Sphere]| s.iter().map(|x| x.radius as f64).sum::<f64>();
-                assert!(sum(&sb) < sum(&sc), "{model:?} step {step}: radii");
-            }
+                assert!(sum(sb) < sum(sc), "{label} step {step}: radii");
+            });
         }
     }
 
@@ -1000,27 +1018,16 @@ mod tests {
                 CharacterTree::build_with_rule(&c, &keep, model, BuildParams::WIDE, rule)
             };
             let (blended, balls) = (build(RefitRule::BlendedBalls), build(RefitRule::JointBalls));
-            let sets = VertexSets::new(&blended.tree, &c.mesh);
-            let mut b = PoseBuffers::new(&c);
-            for step in 0..8 {
-                pose_stretched_far_away(&c, &mut b, step as f32 / 8.0);
-                b.skin_all(&c, model);
-                let (sb, sj) = (every_sphere(&blended, &c, &b), every_sphere(&balls, &c, &b));
-                let held = sets.check(&sb, &b.positions, 0.0);
-                assert!(held.checks > 0);
-                assert_eq!(
-                    held.violations, 0,
-                    "seed {seed} step {step}: worst excess {}",
-                    held.worst_excess
-                );
+            let label = format!("seed {seed}");
+            each_stretched_pose(&c, model, (&blended, &balls), &label, |step, sb, sj| {
                 let sum = |s: &[Sphere]| s.iter().map(|x| x.radius as f64).sum::<f64>();
                 assert!(
-                    sum(&sb) < 0.9 * sum(&sj),
-                    "seed {seed} step {step}: {} against {}",
-                    sum(&sb),
-                    sum(&sj)
+                    sum(sb) < 0.9 * sum(sj),
+                    "{label} step {step}: {} against {}",
+                    sum(sb),
+                    sum(sj)
                 );
-            }
+            });
         }
     }
 
