@@ -356,9 +356,9 @@ impl Order for NearestFirst<'_> {
     /// widened by a billionth, the square widened by 10⁻¹² of `|m|² + r²`,
     /// and the result lowered by a millionth of `|m|₁ + r` (`f64` rounding
     /// here is below 10⁻¹⁵ of those sizes; the ray's `f32` direction, with
-    /// which hits are measured, is a unit vector within 10⁻⁷). `+∞` where
-    /// the line misses the widened sphere (`r² − across²` below zero) or
-    /// leaves it before the origin (`along + √… ` plus the margin below
+    /// which hits are measured, is a unit vector within 10⁻⁷). [`MISSED`]
+    /// where the line misses the widened sphere (`r² − across²` below zero)
+    /// or leaves it before the origin (`along + √(…)` plus the margin below
     /// zero): the ray cannot meet it.
     #[inline]
     fn key(&self, s: &Sphere) -> f32 {

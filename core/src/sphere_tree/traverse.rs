@@ -186,8 +186,9 @@ pub trait Order {
     /// were tested, last first, and no key kept).
     const ORDERED: bool;
     /// The key of a pair whose `a` node has sphere `s`: smaller keys are
-    /// opened first. Computed once per pair that passes the sphere test,
-    /// before the guard: an order may rule a pair out here (a key `keep`
+    /// opened first. Computed before the guard is asked (for a child of
+    /// `a`, once it passes the sphere test; for the children of `b`, once
+    /// for all of them): an order may rule a pair out here (a key `keep`
     /// refuses) and so spare the guard its own test.
     fn key(&self, s: &Sphere) -> f32;
     /// Whether a pair with `key` is still to be opened: asked before the
