@@ -109,9 +109,10 @@
 //! ball keeps its one moved ball (`Rule::OneBall`); a node with more than
 //! [`MAX_BLENDED_CORNERS`] corners, a corner weighting a joint that moves
 //! none of its vertices, or only the simplex's corners (a weight 1 each)
-//! keeps the balls alone, which are the simplex corners' blend. On CesiumMan (four influences a vertex) the spheres at
-//! depths 4 to 8 went from 1.6–2.2 to 1.0–1.6 times the minimal sphere of
-//! their posed vertices (docs/performance-journal.md, "Blended balls").
+//! keeps the balls alone, which are the simplex corners' blend. On
+//! CesiumMan (four influences a vertex) the spheres at depths 4 to 8 went
+//! from 1.6–2.2 to 1.0–1.6 times the minimal sphere of their posed
+//! vertices (docs/performance-journal.md, "Blended balls").
 //!
 //! On demand: a node is refit the first time a traversal asks for it in a frame
 //! (a frame stamp per node). [`Refitter::refit_all`] refits everything.
