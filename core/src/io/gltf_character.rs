@@ -74,8 +74,8 @@ use super::gltf_accessor::{self, Buffers};
 use super::gltf_bind::{Attachments, JointSlots, place};
 use super::gltf_static::{
     AttachedMesh, LoadError, LoadReport, MeshRef, SkippedChannel, TrianglePrimitive, assemble,
-    check_node_transform, load_buffers, local_matrix, note_extensions, one_line, parse_root,
-    read_file, read_triangle_primitive, scene_roots, validate,
+    charge_file, check_node_transform, load_buffers, local_matrix, note_extensions, one_line,
+    parse_root, read_file, read_triangle_primitive, scene_roots, validate,
 };
 use super::limits::{Budget, LoadLimits, MAX_COORDINATE};
 use crate::character::skeleton::exactly_affine;
@@ -112,12 +112,7 @@ pub fn load_character_from(
     limits: &LoadLimits,
 ) -> Result<(Character, LoadReport), LoadError> {
     let budget = Budget::new(limits);
-    budget
-        .charge("the file", bytes.len(), 1)
-        .map_err(|reason| LoadError::Limit {
-            path: path.to_owned(),
-            reason,
-        })?;
+    charge_file(path, &budget, bytes.len())?;
     let (root, blob) = parse_root(path, bytes, &budget)?;
     check_channel_targets(path, &root)?;
     validate(path, &root)?;

@@ -598,7 +598,9 @@ pub(crate) fn read_file(path: &Path, limits: &LoadLimits) -> Result<Vec<u8>, Loa
     Ok(bytes)
 }
 
-fn charge_file(path: &Path, budget: &Budget, bytes: usize) -> Result<(), LoadError> {
+/// Charges a file's `bytes` to `budget` (a file over the budget is refused
+/// before it is parsed).
+pub(super) fn charge_file(path: &Path, budget: &Budget, bytes: usize) -> Result<(), LoadError> {
     budget
         .charge("the file", bytes, 1)
         .map_err(|reason| LoadError::Limit {
