@@ -85,8 +85,8 @@ impl Scene {
         }
     }
 
-    /// Step `k`: each walker's clip sampled by the caller, placed; the box
-    /// moved; the world stepped.
+    /// Step `k`: each walker's clip sampled by the caller, placed; walker 2
+    /// and the box out on some steps; the box moved; the world stepped.
     fn step(&mut self, k: usize) -> &StepContacts {
         let clip = &self.character.clips[0];
         let t = clip.start() + clip.duration() * (k % 30) as f32 / 30.0;
@@ -105,6 +105,14 @@ impl Scene {
                 .set_joint_transforms(h, &self.local, &placement)
                 .unwrap();
         }
+        // Walker 2 and the box sit some steps out (a pool of instances):
+        // toggling allocates nothing either.
+        self.world
+            .set_character_active(cornertree::world::CharacterHandle(2), k % 4 != 1)
+            .unwrap();
+        self.world
+            .set_object_active(cornertree::world::ObjectHandle(0), k % 5 != 2)
+            .unwrap();
         let x = -0.5 + 1.5 * (k % 30) as f32 / 30.0;
         self.world
             .set_object_pose(

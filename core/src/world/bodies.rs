@@ -34,6 +34,9 @@ pub(crate) struct RigidBody {
     pub(crate) mesh: Arc<TriMesh>,
     pub(crate) tree: EnvironmentTree,
     pub(crate) pose: Isometry3<f32>,
+    /// Whether it takes part in steps, sweeps and queries (rooms always
+    /// do; an object can be set inactive).
+    pub(crate) active: bool,
 }
 
 /// Joint matrices as skinning reads them: one skin matrix per joint (world ·
@@ -138,6 +141,9 @@ pub(crate) struct CharacterBody {
     /// Spheres refit and vertices skinned in the frame before the step
     /// began (by queries): not the step's work.
     pub(crate) before_step: (u64, u64),
+    /// Whether it takes part in steps, sweeps and queries
+    /// ([`CollisionWorld::set_character_active`](super::CollisionWorld::set_character_active)).
+    pub(crate) active: bool,
 }
 
 /// A character's self pass: what it knows of the character model (shared
@@ -170,6 +176,13 @@ pub(crate) struct CharacterSweep {
     pub(crate) start: JointMatrices,
     /// Whether `state`'s end is `start` (the last sweep ended there).
     pub(crate) continues: bool,
+    /// Whether the last sweep recorded `start` while the character was
+    /// active (only then may the next sweep detect for it: a character set
+    /// active again starts its steps where it is, as a first sweep does).
+    pub(crate) primed: bool,
+    /// Whether this sweep swept it (its contacts and counters are this
+    /// sweep's; otherwise it has none).
+    pub(crate) swept: bool,
     pub(crate) rooms: Vec<PassSlot<TimedPair>>,
     pub(crate) objects: PassSlot<TimedPair>,
     pub(crate) object_pairs: Vec<Timed<ObjectPair>>,
@@ -215,6 +228,7 @@ impl CharacterBody {
             frame_of_pose: false,
             stepped_in_frame: false,
             before_step: (0, 0),
+            active: true,
             model,
         }
     }
@@ -251,6 +265,20 @@ impl CharacterBody {
             self.frame_of_pose = true;
             self.stepped_in_frame = false;
         }
+    }
+
+    /// A step that leaves the character out (it is inactive): no
+    /// contacts, no counters, nothing refit or skinned.
+    pub(crate) fn sit_out_step(&mut self) {
+        self.own = OwnPasses::default();
+        for slot in &mut self.rooms {
+            slot.hits.clear();
+        }
+        if let Some(s) = self.itself.as_deref_mut() {
+            s.slot.hits.clear();
+        }
+        self.object_pairs.clear();
+        self.before_step = (self.refit.refits, self.skin.skinned());
     }
 
     /// Starts a step: every sphere and skinned vertex of the last one is

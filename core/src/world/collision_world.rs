@@ -290,6 +290,7 @@ impl CollisionWorld {
             mesh,
             tree,
             pose: Isometry3::identity(),
+            active: true,
         });
         let nodes = self.rooms.last().map_or(0, |r| r.tree.tree.len());
         for c in &mut self.characters {
@@ -323,7 +324,12 @@ impl CollisionWorld {
             self.settings.threshold,
             self.settings.build,
         );
-        self.objects.push(RigidBody { mesh, tree, pose });
+        self.objects.push(RigidBody {
+            mesh,
+            tree,
+            pose,
+            active: true,
+        });
         self.object_roots.push(None);
         if let Some(cs) = self.continuous.as_mut() {
             cs.add_object(&pose);
@@ -477,6 +483,51 @@ impl CollisionWorld {
             .ok_or(WorldError::UnknownObject(h))?;
         o.pose = pose;
         Ok(())
+    }
+
+    /// Takes character `h` out of the world (`active` false) or puts it
+    /// back (`true`); a character is active when added. An inactive
+    /// character keeps its handle, its model and its state, and may still
+    /// be posed, but takes part in no step, sweep or query: no root sphere,
+    /// no pass, no contact, no counter. Set active again, it is stepped at
+    /// its current pose; continuous detection starts its steps there (the
+    /// next sweep records its pose and finds nothing for it, as a world's
+    /// first sweep does), so a character pooled far away and brought back
+    /// elsewhere sweeps nothing on the way.
+    pub fn set_character_active(
+        &mut self,
+        h: CharacterHandle,
+        active: bool,
+    ) -> Result<(), WorldError> {
+        self.character_mut(h)?.active = active;
+        Ok(())
+    }
+
+    /// Whether character `h` takes part in steps, sweeps and queries.
+    pub fn character_is_active(&self, h: CharacterHandle) -> Result<bool, WorldError> {
+        self.characters
+            .get(h.index())
+            .map(|c| c.lock().expect("no pass panicked").active)
+            .ok_or(WorldError::UnknownCharacter(h))
+    }
+
+    /// Takes object `h` out of the world or puts it back, as
+    /// [`Self::set_character_active`] does for a character (an object set
+    /// active again is swept from its pose at the next sweep on).
+    pub fn set_object_active(&mut self, h: ObjectHandle, active: bool) -> Result<(), WorldError> {
+        self.objects
+            .get_mut(h.index())
+            .ok_or(WorldError::UnknownObject(h))?
+            .active = active;
+        Ok(())
+    }
+
+    /// Whether object `h` takes part in steps, sweeps and queries.
+    pub fn object_is_active(&self, h: ObjectHandle) -> Result<bool, WorldError> {
+        self.objects
+            .get(h.index())
+            .map(|o| o.active)
+            .ok_or(WorldError::UnknownObject(h))
     }
 
     /// The contacts and counters of the last step.

@@ -23,6 +23,11 @@ pub(crate) struct ContinuousState {
     pub(super) room_planes: Vec<Vec<StillPlane>>,
     /// Each object's pose at the start of the next sweep.
     pub(super) object_starts: Vec<Isometry3<f32>>,
+    /// Whether the last sweep recorded that start while the object was
+    /// active (an object set active again starts its steps where it is).
+    pub(super) object_primed: Vec<bool>,
+    /// Whether this sweep sweeps each object (active, and primed).
+    pub(super) object_swept: Vec<bool>,
     /// Each object's path over the next sweep, where the caller gave one.
     pub(super) next_paths: Vec<Option<RigidPath>>,
     /// Each object's path over the last sweep.
@@ -43,6 +48,8 @@ impl ContinuousState {
                 .map(|r| room_planes(&r.tree, &r.mesh))
                 .collect(),
             object_starts: objects.iter().map(|o| o.pose).collect(),
+            object_primed: vec![true; objects.len()],
+            object_swept: vec![false; objects.len()],
             next_paths: vec![None; objects.len()],
             paths: objects.iter().map(|o| RigidPath::still(o.pose)).collect(),
             started: false,
@@ -67,6 +74,8 @@ impl ContinuousState {
 
     pub(crate) fn add_object(&mut self, pose: &Isometry3<f32>) {
         self.object_starts.push(*pose);
+        self.object_primed.push(true);
+        self.object_swept.push(false);
         self.next_paths.push(None);
         self.paths.push(RigidPath::still(*pose));
     }
@@ -80,6 +89,8 @@ impl ContinuousState {
             state: SweepState::new(&c.tree, ch.skeleton.len(), ch.mesh.vertex_count()),
             start: c.pose.clone(),
             continues: false,
+            primed: true,
+            swept: false,
             rooms: (0..rooms).map(|_| PassSlot::default()).collect(),
             objects: PassSlot::default(),
             object_pairs: Vec::new(),

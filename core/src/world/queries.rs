@@ -13,6 +13,8 @@
 //! skinning state (behind their locks) and the caller's [`QueryScratch`]:
 //! several threads may query one world at once, each with its scratch.
 //! After a scratch has served its first queries, a query allocates nothing.
+//! Inactive characters and objects are not looked at (a query naming one
+//! finds nothing).
 
 use crate::geometry::query_shapes::{Capsule, Ray, ShapeError};
 use crate::geometry::{Point, Real, Sphere};
@@ -405,7 +407,7 @@ impl CollisionWorld {
         }
         for (k, object) in self.objects.iter().enumerate() {
             let body = BodyRef::Object(ObjectHandle(k as u32));
-            if targets.wants(body) {
+            if object.active && targets.wants(body) {
                 let s = clipped(shape, gather.reach());
                 rigid(object, s, true, gather.nearest_only(), scratch);
                 gather.take(body, &scratch.hits);
@@ -416,8 +418,11 @@ impl CollisionWorld {
             if !targets.wants(body) {
                 continue;
             }
-            let s = clipped(shape, gather.reach());
             let mut c = c.lock().expect("no pass panicked");
+            if !c.active {
+                continue;
+            }
+            let s = clipped(shape, gather.reach());
             c.begin_query_frame();
             c.refit.set_logging(false);
             character(&mut c, s, gather.nearest_only(), scratch);

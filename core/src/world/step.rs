@@ -14,6 +14,9 @@
 //!    between the rooms' passes and the character pairs.
 //! 4. The contacts, in a fixed order.
 //!
+//! An inactive character or object takes part in none of this: no root
+//! sphere, no pass, no contact, no counter.
+//!
 //! Which thread runs what never changes a counter or a pair: a pass's tests
 //! do not depend on which spheres were refit before it, and each sphere and
 //! vertex is refit or skinned at most once a step whichever pass asks
@@ -53,7 +56,7 @@ impl CollisionWorld {
         let t0 = Instant::now();
         // Objects' root spheres in the world.
         for (root, o) in self.object_roots.iter_mut().zip(&self.objects) {
-            *root = (!o.tree.tree.is_empty()).then(|| {
+            *root = (o.active && !o.tree.tree.is_empty()).then(|| {
                 o.tree.tree.nodes()[NodeId::ROOT.index()]
                     .sphere
                     .in_frame(&o.pose)
@@ -65,6 +68,10 @@ impl CollisionWorld {
         side_by_side(&mut self.characters, |c| {
             let t0 = Instant::now();
             let c = c.get_mut().expect("no pass panicked");
+            if !c.active {
+                c.sit_out_step();
+                return;
+            }
             c.begin_step_frame();
             c.own.root = side(c).root_sphere();
             c.own.start_seconds = t0.elapsed().as_secs_f32();
@@ -268,6 +275,10 @@ fn own_passes(
     objects: &[RigidBody],
     object_roots: &[Option<Sphere>],
 ) {
+    // An inactive character sat the step out at its start.
+    if !c.active {
+        return;
+    }
     // Last step's nodes first, when the method refits ahead (timed only
     // then: two clock reads the other methods need not pay).
     let ahead_ms = if c.refit.refits_ahead_on() {

@@ -11,6 +11,10 @@
 //! 2. swept roots between characters, then each pair that meets;
 //! 3. the contacts with their times of impact, sorted, and the counters.
 //!
+//! An inactive character or object is left out. One set active again
+//! starts its steps where it is: the first sweep after that records its
+//! pose and finds nothing for it (as a world's first sweep does).
+//!
 //! The end of one sweep is the start of the next, so a character's refit
 //! states at the end are reused, not redone. Nothing is allocated per sweep
 //! once the buffers are sized.
@@ -100,7 +104,20 @@ impl CollisionWorld {
         // Whether this sweep detects (then its end states are the next
         // one's start states).
         let detects = cs.started;
+        for c in characters.iter_mut() {
+            let c = c.get_mut().expect("no pass panicked");
+            c.sweep.as_mut().expect("continuous detection is on").swept = false;
+        }
         if detects {
+            // An object swept now was active at the last sweep and is now.
+            for ((swept, primed), o) in cs
+                .object_swept
+                .iter_mut()
+                .zip(&cs.object_primed)
+                .zip(objects.iter())
+            {
+                *swept = *primed && o.active;
+            }
             for ((path, next), (start, o)) in cs
                 .paths
                 .iter_mut()
@@ -110,17 +127,25 @@ impl CollisionWorld {
                 *path = next.take().unwrap_or_else(|| straight(start, &o.pose));
             }
             // 1. Each character against the rooms and the objects.
-            let (params, planes, paths) = (&cs.params, &cs.room_planes, &cs.paths);
+            let (params, planes) = (&cs.params, &cs.room_planes);
+            let (paths, swept) = (&cs.paths, &cs.object_swept);
             side_by_side(characters, |c| {
                 let c = c.get_mut().expect("no pass panicked");
+                // Swept now: active at the last sweep and now (a character
+                // set active again starts its steps where it is).
+                let s = c.sweep.as_mut().expect("continuous detection is on");
+                if !(c.active && s.primed) {
+                    sit_out_sweep(c);
+                    return;
+                }
+                s.swept = true;
                 own_sweeps(
                     c,
                     (method, cull_rigid),
                     params,
                     rooms,
                     planes,
-                    objects,
-                    paths,
+                    (objects, paths, swept),
                 );
             });
             // 2. Characters against each other.
@@ -131,8 +156,14 @@ impl CollisionWorld {
         }
         // The end of this sweep starts the next.
         cs.started = true;
-        for (start, o) in cs.object_starts.iter_mut().zip(objects.iter()) {
+        for ((start, primed), o) in cs
+            .object_starts
+            .iter_mut()
+            .zip(cs.object_primed.iter_mut())
+            .zip(objects.iter())
+        {
             *start = o.pose;
+            *primed = o.active;
         }
         for c in characters.iter_mut() {
             let c = c.get_mut().expect("no pass panicked");
@@ -140,7 +171,8 @@ impl CollisionWorld {
             let s = c.sweep.as_mut().expect("continuous detection is on");
             s.start.skin.copy_from_slice(&pose.skin);
             s.start.base = pose.base;
-            s.continues = detects;
+            s.continues = s.swept;
+            s.primed = c.active;
         }
         cs.contacts.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         Ok(&cs.contacts)
@@ -182,8 +214,7 @@ fn own_sweeps(
     params: &CcdParams,
     rooms: &[RigidBody],
     planes: &[Vec<StillPlane>],
-    objects: &[RigidBody],
-    paths: &[RigidPath],
+    (objects, paths, swept): (&[RigidBody], &[RigidPath], &[bool]),
 ) {
     let s = c.sweep.as_mut().expect("continuous detection is on");
     let continues = s.continues;
@@ -242,8 +273,8 @@ fn own_sweeps(
     own.body_pairs = 0;
     s.object_pairs.clear();
     let Some(root) = own.root else { return };
-    for (o, (body, path)) in objects.iter().zip(paths).enumerate() {
-        if body.tree.tree.is_empty() {
+    for (o, ((body, path), &swept)) in objects.iter().zip(paths).zip(swept).enumerate() {
+        if !swept || body.tree.tree.is_empty() {
             continue;
         }
         own.broad_phase_tests += 1;
@@ -274,6 +305,20 @@ fn own_sweeps(
             by_plane: p.by_plane,
         }));
     }
+}
+
+/// A sweep that leaves character `c` out (inactive, or set active since
+/// the last sweep): no root, no contacts, no counters.
+fn sit_out_sweep(c: &mut CharacterBody) {
+    c.own = Default::default();
+    let s = c.sweep.as_mut().expect("continuous detection is on");
+    for slot in &mut s.rooms {
+        slot.hits.clear();
+    }
+    if let Some(slot) = s.itself.as_mut() {
+        slot.hits.clear();
+    }
+    s.object_pairs.clear();
 }
 
 /// Swept roots between characters (the broad phase over them), then each
@@ -335,6 +380,9 @@ fn gather(
     for (i, c) in characters.iter_mut().enumerate() {
         let c = c.get_mut().expect("no pass panicked");
         let s = c.sweep.as_ref().expect("continuous detection is on");
+        if !s.swept {
+            continue;
+        }
         refits += s.state.refits();
         skinned += s.state.skinned();
         c.own.add_to(out);

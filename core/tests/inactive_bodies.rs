@@ -1,0 +1,411 @@
+//! A character or an object set inactive takes part in nothing: while it
+//! is out, a world steps, sweeps and answers queries exactly as a world
+//! built without it (the same pairs, the same tests); set active again, it
+//! is stepped as in a world where it never left, and continuous detection
+//! starts its steps where it is (the first sweep back finds nothing for
+//! it, the next ones what a world that kept it finds).
+
+use std::ops::Range;
+use std::sync::Arc;
+
+#[path = "common/box_mesh.rs"]
+mod box_mesh;
+/// The workbench's generated humanoid, for a realistic skinned character.
+#[path = "../../src/humanoid.rs"]
+#[allow(dead_code)]
+mod humanoid;
+use box_mesh::box_mesh;
+
+use cornertree::character::{Character, PoseBuffers, SkinningModel};
+use cornertree::geometry::Point;
+use cornertree::geometry::ccd_root_finder::CcdParams;
+use cornertree::geometry::query_shapes::Ray;
+use cornertree::mesh::TriMesh;
+use cornertree::pipeline::{FrameCounters, Method};
+use cornertree::world::contacts::{
+    CharacterPair, Contacts, Detection, ObjectPair, RoomPair, SelfPair, Timed,
+};
+use cornertree::world::{
+    BodyRef, CharacterHandle, CharacterModel, CollisionWorld, ObjectHandle, QueryScratch,
+    QueryTargets, WorldError, WorldSettings,
+};
+use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
+use rand::{Rng, SeedableRng, rngs::SmallRng};
+
+const FRAMES: usize = 7;
+/// The frames character 1 and the object are out.
+const OUT: Range<usize> = 2..4;
+const WALKERS: usize = 4;
+/// The walkers of the world built without character 1, by their handles
+/// in the world that has it.
+const KEPT: [u32; 3] = [0, 2, 3];
+
+/// A floor of big triangles.
+fn floor() -> TriMesh {
+    TriMesh::new(
+        vec![
+            Point::new(-4.0, 0.0, -4.0),
+            Point::new(4.0, 0.0, -4.0),
+            Point::new(4.0, 0.0, 4.0),
+            Point::new(-4.0, 0.0, 4.0),
+        ],
+        vec![[0, 2, 1], [0, 3, 2]],
+    )
+    .unwrap()
+}
+
+struct Scene {
+    character: Arc<Character>,
+    model: Arc<CharacterModel>,
+    object: Arc<TriMesh>,
+    poses: Vec<PoseBuffers>,
+}
+
+impl Scene {
+    fn new() -> Self {
+        let character = Arc::new(
+            humanoid::generate_humanoid(&humanoid::HumanoidParams {
+                vertices: 1500,
+                seed: 5,
+            })
+            .unwrap(),
+        );
+        let model =
+            Arc::new(CharacterModel::new(character.clone(), SkinningModel::Linear).unwrap());
+        let poses = (0..WALKERS).map(|_| PoseBuffers::new(&character)).collect();
+        Self {
+            character,
+            model,
+            object: Arc::new(box_mesh()),
+            poses,
+        }
+    }
+
+    /// A world of the floor, the box (if `object`) and the walkers `walkers`.
+    fn world(&self, walkers: usize, object: bool) -> CollisionWorld {
+        let settings = WorldSettings {
+            self_collision: true,
+            ..WorldSettings::default()
+        };
+        let mut w = CollisionWorld::with_settings(Method::UndividedPrunedTriTri, settings);
+        w.add_room(Arc::new(floor())).unwrap();
+        if object {
+            w.add_object(self.object.clone(), Isometry3::identity())
+                .unwrap();
+        }
+        for _ in 0..walkers {
+            w.add_character(self.model.clone()).unwrap();
+        }
+        w.enable_continuous(CcdParams::default());
+        w
+    }
+
+    /// Frame `k`'s poses: the walkers 0.4 m apart (their arms brush), each
+    /// at its own phase of the walk; `far` sends walker 1 20 m away (a
+    /// pooled instance posed where nothing is).
+    fn pose(&mut self, k: usize, far: bool) {
+        let clip = &self.character.clips[0];
+        for (c, pose) in self.poses.iter_mut().enumerate() {
+            let t = clip.start() + clip.duration() * ((3 * k + 5 * c) % 30) as f32 / 30.0;
+            pose.pose(&self.character, Some(clip), t);
+            let x = if far && c == 1 {
+                20.0
+            } else {
+                0.4 * c as f32 - 0.6
+            };
+            let place = Matrix4::new_translation(&Vector3::new(x, 0.0, 0.05 * k as f32))
+                * Matrix4::from_euler_angles(0.0, 0.1 * c as f32, 0.0);
+            pose.place(&place);
+        }
+    }
+
+    /// The box's pose at frame `k`: crossing the walkers at hip height.
+    fn object_pose(k: usize) -> Isometry3<f32> {
+        Isometry3::from_parts(
+            Translation3::new(-0.9 + 0.25 * k as f32, 0.9, 0.1),
+            UnitQuaternion::from_euler_angles(0.3, 0.2 * k as f32, 0.0),
+        )
+    }
+}
+
+/// A contact's time of impact, as text (a step's contacts have none).
+trait Toi {
+    fn toi(&self) -> Option<f64>;
+}
+
+impl<P> Toi for Timed<P> {
+    fn toi(&self) -> Option<f64> {
+        Some(self.toi)
+    }
+}
+
+macro_rules! untimed {
+    ($($t:ty),*) => {
+        $(impl Toi for $t {
+            fn toi(&self) -> Option<f64> {
+                None
+            }
+        })*
+    };
+}
+untimed!(RoomPair, ObjectPair, CharacterPair, SelfPair);
+
+/// Every contact of a step or a sweep, its handles mapped by `character`
+/// and `object` (a pair naming a body the map drops is a failure).
+fn contacts<D: Detection>(
+    c: &Contacts<D>,
+    character: impl Fn(CharacterHandle) -> CharacterHandle,
+    object: impl Fn(ObjectHandle) -> ObjectHandle,
+) -> Vec<String>
+where
+    D::Pair<RoomPair>: Toi,
+    D::Pair<ObjectPair>: Toi,
+    D::Pair<CharacterPair>: Toi,
+    D::Pair<SelfPair>: Toi,
+{
+    let mut out = Vec::new();
+    for p in &c.room_pairs {
+        let (q, t) = (D::pair(p), p.toi());
+        out.push(format!(
+            "room {} {} {} {} {t:?}",
+            character(q.character),
+            q.triangle,
+            q.room,
+            q.room_triangle
+        ));
+    }
+    for p in &c.object_pairs {
+        let (q, t) = (D::pair(p), p.toi());
+        out.push(format!(
+            "object {} {} {} {} {t:?}",
+            character(q.character),
+            q.triangle,
+            object(q.object),
+            q.object_triangle
+        ));
+    }
+    for p in &c.character_pairs {
+        let (q, t) = (D::pair(p), p.toi());
+        out.push(format!(
+            "characters {} {} {} {} {t:?}",
+            character(q.a),
+            q.triangle_a,
+            character(q.b),
+            q.triangle_b
+        ));
+    }
+    for p in &c.self_pairs {
+        let (q, t) = (D::pair(p), p.toi());
+        out.push(format!(
+            "self {} {} {} {t:?}",
+            character(q.character),
+            q.triangle_a,
+            q.triangle_b
+        ));
+    }
+    out.sort();
+    out
+}
+
+/// The tests a step or a sweep made, kind by kind (not its times, nor its
+/// refits: a character back from a pause refits ahead from older steps).
+fn tests<D: Detection>(c: &Contacts<D>) -> Vec<(u64, u64, u64)> {
+    let t = |f: &FrameCounters| (f.sphere_sphere, f.tri_tri, f.plane_sphere);
+    vec![
+        t(&c.by_kind.environment),
+        t(&c.by_kind.objects),
+        t(&c.by_kind.characters),
+        t(&c.by_kind.self_contact),
+        (c.broad_phase_tests, c.body_pairs, 0),
+    ]
+}
+
+fn same(h: CharacterHandle) -> CharacterHandle {
+    h
+}
+fn kept(h: CharacterHandle) -> CharacterHandle {
+    CharacterHandle(KEPT[h.index()])
+}
+fn same_object(h: ObjectHandle) -> ObjectHandle {
+    h
+}
+fn no_object(h: ObjectHandle) -> ObjectHandle {
+    panic!("{h}: the world without the object reports it")
+}
+
+fn ray(rng: &mut SmallRng) -> Ray {
+    let o = Point::new(
+        rng.random_range(-2.0..2.0),
+        rng.random_range(0.2..2.0),
+        rng.random_range(1.5..3.0),
+    );
+    let target = Point::new(
+        rng.random_range(-1.2..1.2),
+        rng.random_range(0.0..1.8),
+        rng.random_range(-0.3..0.6),
+    );
+    Ray::new(o, target - o, f32::INFINITY).unwrap()
+}
+
+/// The world that sets walker 1 and the box out over `OUT` (`toggled`)
+/// against the world that never had them (`without`) while they are out,
+/// and against the world that always has them (`always`) otherwise: steps,
+/// sweeps and rays.
+#[test]
+fn an_inactive_body_is_as_if_absent_and_comes_back_as_if_never_gone() {
+    let mut scene = Scene::new();
+    let mut toggled = scene.world(WALKERS, true);
+    let mut always = scene.world(WALKERS, true);
+    let mut without = scene.world(KEPT.len(), false);
+    let mut rng = SmallRng::seed_from_u64(7);
+    let mut scratch = QueryScratch::new();
+    let (mut out_contacts, mut out_object_contacts, mut ray_hits_on_1) = (0, 0, 0);
+    for k in 0..FRAMES {
+        let out = OUT.contains(&k);
+        let walker = CharacterHandle(1);
+        let object = ObjectHandle(0);
+        toggled.set_character_active(walker, !out).unwrap();
+        toggled.set_object_active(object, !out).unwrap();
+        assert_eq!(toggled.character_is_active(walker).unwrap(), !out);
+        assert_eq!(toggled.object_is_active(object).unwrap(), !out);
+
+        // `toggled` poses its walker 1 far away while it is out: where a
+        // paused instance is does not matter.
+        scene.pose(k, out);
+        for c in 0..WALKERS {
+            toggled
+                .set_pose(CharacterHandle(c as u32), &scene.poses[c])
+                .unwrap();
+        }
+        scene.pose(k, false);
+        for c in 0..WALKERS {
+            always
+                .set_pose(CharacterHandle(c as u32), &scene.poses[c])
+                .unwrap();
+        }
+        for (b, &a) in KEPT.iter().enumerate() {
+            without
+                .set_pose(CharacterHandle(b as u32), &scene.poses[a as usize])
+                .unwrap();
+        }
+        let op = Scene::object_pose(k);
+        toggled.set_object_pose(object, op).unwrap();
+        always.set_object_pose(object, op).unwrap();
+
+        // Rays first (a query's refits serve the step after it).
+        for _ in 0..40 {
+            let r = ray(&mut rng);
+            let got = toggled
+                .cast_ray(&r, QueryTargets::All, &mut scratch)
+                .unwrap();
+            let (reference, name) = if out {
+                let mut h = without
+                    .cast_ray(&r, QueryTargets::All, &mut scratch)
+                    .unwrap();
+                if let Some(h) = h.as_mut()
+                    && let BodyRef::Character(c) = h.body
+                {
+                    h.body = BodyRef::Character(kept(c));
+                }
+                (h, "without")
+            } else {
+                let h = always
+                    .cast_ray(&r, QueryTargets::All, &mut scratch)
+                    .unwrap();
+                if h.is_some_and(|h| h.body == BodyRef::Character(walker)) {
+                    ray_hits_on_1 += 1;
+                }
+                (h, "always")
+            };
+            assert_eq!(
+                got, reference,
+                "frame {k}: a ray's first hit against {name}"
+            );
+        }
+        if out {
+            // A query naming an inactive body finds nothing, and no error.
+            let r = ray(&mut rng);
+            for t in [
+                QueryTargets::Character(walker),
+                QueryTargets::Object(object),
+            ] {
+                assert_eq!(toggled.cast_ray(&r, t, &mut scratch).unwrap(), None);
+                assert_eq!(scratch.counters().root_tests, 0);
+            }
+        }
+
+        let got = toggled.step();
+        let (g, gt) = (contacts(got, same, same_object), tests(got));
+        if out {
+            let w = without.step();
+            assert_eq!(g, contacts(w, kept, no_object), "frame {k}: step");
+            assert_eq!(gt, tests(w), "frame {k}: step's tests");
+            let a = always.step();
+            let always_pairs = contacts(a, same, same_object);
+            out_object_contacts += always_pairs
+                .iter()
+                .filter(|p| p.starts_with("object"))
+                .count();
+            out_contacts += always_pairs
+                .iter()
+                .filter(|p| p.contains("character 1 "))
+                .count();
+            assert_ne!(g, always_pairs);
+        } else {
+            let a = always.step();
+            assert_eq!(g, contacts(a, same, same_object), "frame {k}: step");
+            assert_eq!(gt, tests(a), "frame {k}: step's tests");
+            without.step();
+        }
+
+        // Sweeps: while out, and on the first sweep back (which records
+        // where walker 1 and the box are now and finds nothing for them),
+        // as the world without them; otherwise as the world with them.
+        let got = toggled.sweep().unwrap();
+        let (g, gt) = (contacts(got, same, same_object), tests(got));
+        let w = without.sweep().unwrap();
+        let (wc, wt) = (contacts(w, kept, no_object), tests(w));
+        let a = always.sweep().unwrap();
+        let (ac, at) = (contacts(a, same, same_object), tests(a));
+        if out || k == OUT.end {
+            assert_eq!(g, wc, "frame {k}: sweep");
+            assert_eq!(gt, wt, "frame {k}: sweep's tests");
+        } else {
+            assert_eq!(g, ac, "frame {k}: sweep");
+            assert_eq!(gt, at, "frame {k}: sweep's tests");
+            if k > 0 {
+                assert!(!ac.is_empty(), "frame {k}: a sweep without contacts");
+            }
+        }
+        if k == OUT.end {
+            assert_ne!(
+                g, ac,
+                "frame {k}: walker 1 came back 20 m away: nothing to find on its way"
+            );
+        }
+    }
+    assert!(
+        out_contacts > 50,
+        "walker 1 met {out_contacts} triangles while out"
+    );
+    assert!(
+        out_object_contacts > 5,
+        "the box met {out_object_contacts} triangles while out"
+    );
+    assert!(ray_hits_on_1 > 3, "rays met walker 1 {ray_hits_on_1} times");
+}
+
+#[test]
+fn unknown_handles_are_refused() {
+    let scene = Scene::new();
+    let mut w = scene.world(1, true);
+    assert!(matches!(
+        w.set_character_active(CharacterHandle(1), false),
+        Err(WorldError::UnknownCharacter(CharacterHandle(1)))
+    ));
+    assert!(matches!(
+        w.object_is_active(ObjectHandle(3)),
+        Err(WorldError::UnknownObject(ObjectHandle(3)))
+    ));
+    assert!(w.character_is_active(CharacterHandle(0)).unwrap());
+}
