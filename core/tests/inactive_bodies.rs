@@ -1,4 +1,4 @@
-//! A character or an object set inactive takes part in nothing: while it
+//! A character, an object or a room set inactive takes part in nothing: while it
 //! is out, a world steps, sweeps and answers queries exactly as a world
 //! built without it (the same pairs, the same tests); set active again, it
 //! is stepped as in a world where it never left, and continuous detection
@@ -27,7 +27,7 @@ use cornertree::world::contacts::{
 };
 use cornertree::world::{
     BodyRef, CharacterHandle, CharacterModel, CollisionWorld, ObjectHandle, QueryScratch,
-    QueryTargets, WorldError, WorldSettings,
+    QueryTargets, RoomHandle, WorldError, WorldSettings,
 };
 use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng, rngs::SmallRng};
@@ -395,6 +395,91 @@ fn an_inactive_body_is_as_if_absent_and_comes_back_as_if_never_gone() {
     assert!(ray_hits_on_1 > 3, "rays met walker 1 {ray_hits_on_1} times");
 }
 
+/// A wall the walkers' fronts cross.
+fn wall() -> TriMesh {
+    TriMesh::new(
+        vec![
+            Point::new(-2.0, 0.0, 0.12),
+            Point::new(2.0, 0.0, 0.12),
+            Point::new(2.0, 2.0, 0.12),
+            Point::new(-2.0, 2.0, 0.12),
+        ],
+        vec![[0, 1, 2], [0, 2, 3]],
+    )
+    .unwrap()
+}
+
+/// A room set out (the wall, a level streamed out) is as if absent, and
+/// back is as if it never left: steps, sweeps and rays.
+#[test]
+fn an_inactive_room_is_as_if_absent() {
+    let mut scene = Scene::new();
+    let worlds = |with_wall: bool| {
+        let mut w = scene.world(2, false);
+        if with_wall {
+            w.add_room(Arc::new(wall())).unwrap();
+        }
+        w
+    };
+    let (mut toggled, mut always, mut without) = (worlds(true), worlds(true), worlds(false));
+    let wall = RoomHandle(1);
+    let mut rng = SmallRng::seed_from_u64(3);
+    let mut scratch = QueryScratch::new();
+    let mut wall_contacts = 0;
+    for k in 0..5 {
+        let out = (1..3).contains(&k);
+        toggled.set_room_active(wall, !out).unwrap();
+        assert_eq!(toggled.room_is_active(wall).unwrap(), !out);
+        scene.pose(k, false);
+        for w in [&mut toggled, &mut always, &mut without] {
+            for c in 0..2 {
+                w.set_pose(CharacterHandle(c as u32), &scene.poses[c])
+                    .unwrap();
+            }
+        }
+        let reference = if out { &mut without } else { &mut always };
+        for _ in 0..30 {
+            let r = ray(&mut rng);
+            assert_eq!(
+                toggled
+                    .cast_ray(&r, QueryTargets::All, &mut scratch)
+                    .unwrap(),
+                reference
+                    .cast_ray(&r, QueryTargets::All, &mut scratch)
+                    .unwrap(),
+                "frame {k}: a ray"
+            );
+        }
+        let (g, gt) = {
+            let c = toggled.step();
+            (contacts(c, same, same_object), tests(c))
+        };
+        let r = reference.step();
+        assert_eq!(g, contacts(r, same, same_object), "frame {k}: step");
+        assert_eq!(gt, tests(r), "frame {k}: step's tests");
+        let a = always.step();
+        if out {
+            wall_contacts += contacts(a, same, same_object)
+                .iter()
+                .filter(|p| p.contains("room 1 "))
+                .count();
+        }
+        let g = contacts(toggled.sweep().unwrap(), same, same_object);
+        let r = if out { &mut without } else { &mut always };
+        assert_eq!(
+            g,
+            contacts(r.sweep().unwrap(), same, same_object),
+            "frame {k}: sweep"
+        );
+        let other = if out { &mut always } else { &mut without };
+        other.sweep().unwrap();
+    }
+    assert!(
+        wall_contacts > 20,
+        "the wall met {wall_contacts} triangles while out"
+    );
+}
+
 #[test]
 fn unknown_handles_are_refused() {
     let scene = Scene::new();
@@ -407,5 +492,10 @@ fn unknown_handles_are_refused() {
         w.object_is_active(ObjectHandle(3)),
         Err(WorldError::UnknownObject(ObjectHandle(3)))
     ));
+    assert!(matches!(
+        w.set_room_active(RoomHandle(1), false),
+        Err(WorldError::UnknownRoom(RoomHandle(1)))
+    ));
     assert!(w.character_is_active(CharacterHandle(0)).unwrap());
+    assert!(w.room_is_active(RoomHandle(0)).unwrap());
 }

@@ -34,8 +34,7 @@ pub(crate) struct RigidBody {
     pub(crate) mesh: Arc<TriMesh>,
     pub(crate) tree: EnvironmentTree,
     pub(crate) pose: Isometry3<f32>,
-    /// Whether it takes part in steps, sweeps and queries (rooms always
-    /// do; an object can be set inactive).
+    /// Whether it takes part in steps, sweeps and queries.
     pub(crate) active: bool,
 }
 

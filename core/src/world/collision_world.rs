@@ -522,6 +522,25 @@ impl CollisionWorld {
         Ok(())
     }
 
+    /// Takes room `h` out of the world or puts it back (a level streamed
+    /// out and in again): while out, no character is tested against it and
+    /// no query looks at it.
+    pub fn set_room_active(&mut self, h: RoomHandle, active: bool) -> Result<(), WorldError> {
+        self.rooms
+            .get_mut(h.index())
+            .ok_or(WorldError::UnknownRoom(h))?
+            .active = active;
+        Ok(())
+    }
+
+    /// Whether room `h` takes part in steps, sweeps and queries.
+    pub fn room_is_active(&self, h: RoomHandle) -> Result<bool, WorldError> {
+        self.rooms
+            .get(h.index())
+            .map(|r| r.active)
+            .ok_or(WorldError::UnknownRoom(h))
+    }
+
     /// Whether object `h` takes part in steps, sweeps and queries.
     pub fn object_is_active(&self, h: ObjectHandle) -> Result<bool, WorldError> {
         self.objects

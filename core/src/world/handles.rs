@@ -2,11 +2,11 @@
 //! `add_*` calls return and its contacts name. A handle is the body's
 //! position among the bodies of its kind, in the order they were added
 //! (bodies are never removed), so a caller may keep its own data in a
-//! vector indexed by [`index`](CharacterHandle::index). A character or an
-//! object that leaves the scene is set inactive instead, and active again
-//! when it comes back (`CollisionWorld::set_character_active`,
-//! `set_object_active`): a pool of instances for a crowd that comes and
-//! goes.
+//! vector indexed by [`index`](CharacterHandle::index). A body that leaves
+//! the scene is set inactive instead, and active again when it comes back
+//! (`CollisionWorld::set_character_active`, `set_object_active`,
+//! `set_room_active`): a pool of instances for a crowd that comes and goes,
+//! a level streamed out and in.
 
 macro_rules! handle {
     ($(#[$doc:meta])* $name:ident, $what:literal) => {

@@ -13,7 +13,7 @@
 //! skinning state (behind their locks) and the caller's [`QueryScratch`]:
 //! several threads may query one world at once, each with its scratch.
 //! After a scratch has served its first queries, a query allocates nothing.
-//! Inactive characters and objects are not looked at (a query naming one
+//! Inactive characters, objects and rooms are not looked at (a query naming one
 //! finds nothing).
 
 use crate::geometry::query_shapes::{Capsule, Ray, ShapeError};
@@ -399,7 +399,7 @@ impl CollisionWorld {
         };
         for (k, room) in self.rooms.iter().enumerate() {
             let body = BodyRef::Room(RoomHandle(k as u32));
-            if targets.wants(body) {
+            if room.active && targets.wants(body) {
                 let s = clipped(shape, gather.reach());
                 rigid(room, s, false, gather.nearest_only(), scratch);
                 gather.take(body, &scratch.hits);

@@ -14,8 +14,8 @@
 //!    between the rooms' passes and the character pairs.
 //! 4. The contacts, in a fixed order.
 //!
-//! An inactive character or object takes part in none of this: no root
-//! sphere, no pass, no contact, no counter.
+//! An inactive character, object or room takes part in none of this: no
+//! root sphere, no pass, no contact, no counter.
 //!
 //! Which thread runs what never changes a counter or a pair: a pass's tests
 //! do not depend on which spheres were refit before it, and each sphere and
@@ -324,6 +324,10 @@ fn own_passes(
         skin,
     };
     for (r, (room, slot)) in rooms.iter().zip(slots.iter_mut()).enumerate() {
+        if !room.active {
+            slot.hits.clear();
+            continue;
+        }
         let c = match visits.as_mut() {
             Some(logs) => {
                 let log = &mut logs[r];

@@ -11,7 +11,7 @@
 //! 2. swept roots between characters, then each pair that meets;
 //! 3. the contacts with their times of impact, sorted, and the counters.
 //!
-//! An inactive character or object is left out. One set active again
+//! An inactive character, object or room is left out. One set active again
 //! starts its steps where it is: the first sweep after that records its
 //! pose and finds nothing for it (as a world's first sweep does).
 //!
@@ -243,6 +243,10 @@ fn own_sweeps(
     own.ccd = CcdCounters::default();
     own.rooms = FrameCounters::default();
     for ((room, planes), slot) in rooms.iter().zip(planes).zip(s.rooms.iter_mut()) {
+        if !room.active {
+            slot.hits.clear();
+            continue;
+        }
         let mut pass = SweptRoomPass {
             character: side.reborrow(),
             room: &room.tree,
