@@ -14,119 +14,28 @@ mod box_mesh;
 #[path = "../../src/humanoid.rs"]
 #[allow(dead_code)]
 mod humanoid;
-use box_mesh::box_mesh;
+#[path = "common/walkers.rs"]
+mod walkers;
 
-use cornertree::character::{Character, PoseBuffers, SkinningModel};
 use cornertree::geometry::Point;
-use cornertree::geometry::ccd_root_finder::CcdParams;
 use cornertree::geometry::query_shapes::Ray;
 use cornertree::mesh::TriMesh;
-use cornertree::pipeline::{FrameCounters, Method};
+use cornertree::pipeline::FrameCounters;
 use cornertree::world::contacts::{
     CharacterPair, Contacts, Detection, ObjectPair, RoomPair, SelfPair, Timed,
 };
 use cornertree::world::{
-    BodyRef, CharacterHandle, CharacterModel, CollisionWorld, ObjectHandle, QueryScratch,
-    QueryTargets, RoomHandle, WorldError, WorldSettings,
+    BodyRef, CharacterHandle, ObjectHandle, QueryScratch, QueryTargets, RoomHandle, WorldError,
 };
-use nalgebra::{Isometry3, Matrix4, Translation3, UnitQuaternion, Vector3};
 use rand::{Rng, SeedableRng, rngs::SmallRng};
+use walkers::{Scene, WALKERS};
 
 const FRAMES: usize = 7;
 /// The frames character 1 and the object are out.
 const OUT: Range<usize> = 2..4;
-const WALKERS: usize = 4;
 /// The walkers of the world built without character 1, by their handles
 /// in the world that has it.
 const KEPT: [u32; 3] = [0, 2, 3];
-
-/// A floor of big triangles.
-fn floor() -> TriMesh {
-    TriMesh::new(
-        vec![
-            Point::new(-4.0, 0.0, -4.0),
-            Point::new(4.0, 0.0, -4.0),
-            Point::new(4.0, 0.0, 4.0),
-            Point::new(-4.0, 0.0, 4.0),
-        ],
-        vec![[0, 2, 1], [0, 3, 2]],
-    )
-    .unwrap()
-}
-
-struct Scene {
-    character: Arc<Character>,
-    model: Arc<CharacterModel>,
-    object: Arc<TriMesh>,
-    poses: Vec<PoseBuffers>,
-}
-
-impl Scene {
-    fn new() -> Self {
-        let character = Arc::new(
-            humanoid::generate_humanoid(&humanoid::HumanoidParams {
-                vertices: 1500,
-                seed: 5,
-            })
-            .unwrap(),
-        );
-        let model =
-            Arc::new(CharacterModel::new(character.clone(), SkinningModel::Linear).unwrap());
-        let poses = (0..WALKERS).map(|_| PoseBuffers::new(&character)).collect();
-        Self {
-            character,
-            model,
-            object: Arc::new(box_mesh()),
-            poses,
-        }
-    }
-
-    /// A world of the floor, the box (if `object`) and the walkers `walkers`.
-    fn world(&self, walkers: usize, object: bool) -> CollisionWorld {
-        let settings = WorldSettings {
-            self_collision: true,
-            ..WorldSettings::default()
-        };
-        let mut w = CollisionWorld::with_settings(Method::UndividedPrunedTriTri, settings);
-        w.add_room(Arc::new(floor())).unwrap();
-        if object {
-            w.add_object(self.object.clone(), Isometry3::identity())
-                .unwrap();
-        }
-        for _ in 0..walkers {
-            w.add_character(self.model.clone()).unwrap();
-        }
-        w.enable_continuous(CcdParams::default());
-        w
-    }
-
-    /// Frame `k`'s poses: the walkers 0.4 m apart (their arms brush), each
-    /// at its own phase of the walk; `far` sends walker 1 20 m away (a
-    /// pooled instance posed where nothing is).
-    fn pose(&mut self, k: usize, far: bool) {
-        let clip = &self.character.clips[0];
-        for (c, pose) in self.poses.iter_mut().enumerate() {
-            let t = clip.start() + clip.duration() * ((3 * k + 5 * c) % 30) as f32 / 30.0;
-            pose.pose(&self.character, Some(clip), t);
-            let x = if far && c == 1 {
-                20.0
-            } else {
-                0.4 * c as f32 - 0.6
-            };
-            let place = Matrix4::new_translation(&Vector3::new(x, 0.0, 0.05 * k as f32))
-                * Matrix4::from_euler_angles(0.0, 0.1 * c as f32, 0.0);
-            pose.place(&place);
-        }
-    }
-
-    /// The box's pose at frame `k`: crossing the walkers at hip height.
-    fn object_pose(k: usize) -> Isometry3<f32> {
-        Isometry3::from_parts(
-            Translation3::new(-0.9 + 0.25 * k as f32, 0.9, 0.1),
-            UnitQuaternion::from_euler_angles(0.3, 0.2 * k as f32, 0.0),
-        )
-    }
-}
 
 /// A contact's time of impact, as text (a step's contacts have none).
 trait Toi {

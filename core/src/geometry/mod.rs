@@ -46,6 +46,7 @@ pub mod counted;
 pub mod edge_crossing;
 pub mod enclosing;
 pub mod exact;
+pub mod intersection_segment;
 pub mod plane_sphere;
 pub mod query_shapes;
 pub mod scalar;

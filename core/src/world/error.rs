@@ -96,6 +96,16 @@ pub enum WorldError {
     /// A query shape that is not a shape (not finite, negative radius).
     #[error("query: {0}")]
     Shape(#[from] crate::geometry::query_shapes::ShapeError),
+    /// A triangle index beyond a body's mesh.
+    #[error("{body}: no triangle {triangle} (its mesh has {count})")]
+    UnknownTriangle {
+        /// The body.
+        body: super::queries::BodyRef,
+        /// The index asked for.
+        triangle: u32,
+        /// Triangles in the body's mesh.
+        count: usize,
+    },
     /// Continuous detection asked of a world that has not enabled it.
     #[error("continuous detection is off: call enable_continuous first")]
     ContinuousOff,

@@ -11,6 +11,7 @@
 //! | `continuous_state` | what continuous detection keeps beside the bodies |
 //! | [`character_model`] | [`CharacterModel`]: what a character instance is made from, checked once |
 //! | [`contacts`] | [`Contacts`]: pairs of every kind by handle, with counters ([`StepContacts`], [`SweepContacts`]) |
+//! | [`contact_geometry`] | where a contact is: its triangles at the current poses and the segment they share ([`CollisionWorld::contact_geometry`]) |
 //! | [`handles`] | [`RoomHandle`], [`ObjectHandle`], [`CharacterHandle`] |
 //! | [`error`] | [`WorldError`]: the caller's bad data, named |
 //! | `bodies` | what each body keeps between steps |
@@ -23,6 +24,7 @@ pub(crate) mod bodies;
 pub mod broad_phase;
 pub mod character_model;
 pub mod collision_world;
+pub mod contact_geometry;
 pub mod contacts;
 mod continuous_state;
 pub mod error;
@@ -36,6 +38,7 @@ mod sweep;
 
 pub use character_model::CharacterModel;
 pub use collision_world::{CharacterView, CollisionWorld, WorldSettings};
+pub use contact_geometry::{ContactGeometry, ContactRef};
 pub use contacts::{
     ByKind, CharacterPair, Contacts, Detection, Discrete, ObjectPair, PairKind, RoomPair, SelfPair,
     StepContacts, SweepContacts, Swept, Timed,

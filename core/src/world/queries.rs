@@ -43,6 +43,16 @@ pub enum BodyRef {
     Character(CharacterHandle),
 }
 
+impl std::fmt::Display for BodyRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            BodyRef::Room(h) => h.fmt(f),
+            BodyRef::Object(h) => h.fmt(f),
+            BodyRef::Character(h) => h.fmt(f),
+        }
+    }
+}
+
 /// Which bodies a query looks at.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum QueryTargets {
