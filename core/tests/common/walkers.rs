@@ -61,8 +61,14 @@ impl Scene {
 
     /// A world of the floor, the box (if `object`) and the walkers `walkers`.
     pub fn world(&self, walkers: usize, object: bool) -> CollisionWorld {
+        self.world_with(walkers, object, true)
+    }
+
+    /// The same, each walker tested against itself as it is added if
+    /// `self_collision`.
+    pub fn world_with(&self, walkers: usize, object: bool, self_collision: bool) -> CollisionWorld {
         let settings = WorldSettings {
-            self_collision: true,
+            self_collision,
             ..WorldSettings::default()
         };
         let mut w = CollisionWorld::with_settings(Method::UndividedPrunedTriTri, settings);
