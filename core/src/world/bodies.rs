@@ -26,6 +26,7 @@ use crate::sphere_tree::self_contact::{RigidGaps, SelfContactData};
 
 use super::character_model::CharacterModel;
 use super::contacts::{Contacts, Detection, ObjectPair, Timed};
+use super::groups::CollisionGroups;
 use super::handles::CharacterHandle;
 
 /// A room or a moving object: its triangles and their hierarchy, in its
@@ -36,6 +37,8 @@ pub(crate) struct RigidBody {
     pub(crate) pose: Isometry3<f32>,
     /// Whether it takes part in steps, sweeps and queries.
     pub(crate) active: bool,
+    /// Which characters it meets.
+    pub(crate) groups: CollisionGroups,
 }
 
 /// Joint matrices as skinning reads them: one skin matrix per joint (world ·
@@ -143,6 +146,8 @@ pub(crate) struct CharacterBody {
     /// Whether it takes part in steps, sweeps and queries
     /// ([`CollisionWorld::set_character_active`](super::CollisionWorld::set_character_active)).
     pub(crate) active: bool,
+    /// Which bodies it meets.
+    pub(crate) groups: CollisionGroups,
 }
 
 /// A character's self pass: what it knows of the character model (shared
@@ -228,6 +233,7 @@ impl CharacterBody {
             stepped_in_frame: false,
             before_step: (0, 0),
             active: true,
+            groups: CollisionGroups::ALL,
             model,
         }
     }

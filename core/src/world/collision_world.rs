@@ -25,6 +25,7 @@ use super::character_model::CharacterModel;
 use super::contacts::StepContacts;
 use super::continuous_state::ContinuousState;
 use super::error::WorldError;
+use super::groups::CollisionGroups;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 use super::pass_graph::PassGraph;
 use super::pass_pool::PassPool;
@@ -292,6 +293,7 @@ impl CollisionWorld {
             tree,
             pose: Isometry3::identity(),
             active: true,
+            groups: CollisionGroups::ALL,
         });
         let nodes = self.rooms.last().map_or(0, |r| r.tree.tree.len());
         for c in &mut self.characters {
@@ -330,6 +332,7 @@ impl CollisionWorld {
             tree,
             pose,
             active: true,
+            groups: CollisionGroups::ALL,
         });
         self.object_roots.push(None);
         if let Some(cs) = self.continuous.as_mut() {
@@ -597,6 +600,47 @@ impl CollisionWorld {
             .get(h.index())
             .map(|r| r.active)
             .ok_or(WorldError::UnknownRoom(h))
+    }
+
+    /// Sets the groups character `h` belongs to and meets (by default
+    /// [`CollisionGroups::ALL`]): it is tested against a room, an object or
+    /// another character only if their groups meet, in steps and sweeps
+    /// alike. Against itself, [`Self::set_self_collision`] decides.
+    pub fn set_character_groups(
+        &mut self,
+        h: CharacterHandle,
+        groups: CollisionGroups,
+    ) -> Result<(), WorldError> {
+        self.character_mut(h)?.groups = groups;
+        Ok(())
+    }
+
+    /// Sets the groups object `h` belongs to and meets (see
+    /// [`Self::set_character_groups`]).
+    pub fn set_object_groups(
+        &mut self,
+        h: ObjectHandle,
+        groups: CollisionGroups,
+    ) -> Result<(), WorldError> {
+        self.objects
+            .get_mut(h.index())
+            .ok_or(WorldError::UnknownObject(h))?
+            .groups = groups;
+        Ok(())
+    }
+
+    /// Sets the groups room `h` belongs to and meets (see
+    /// [`Self::set_character_groups`]).
+    pub fn set_room_groups(
+        &mut self,
+        h: RoomHandle,
+        groups: CollisionGroups,
+    ) -> Result<(), WorldError> {
+        self.rooms
+            .get_mut(h.index())
+            .ok_or(WorldError::UnknownRoom(h))?
+            .groups = groups;
+        Ok(())
     }
 
     /// Whether object `h` takes part in steps, sweeps and queries.

@@ -13,6 +13,7 @@
 //! | [`contacts`] | [`Contacts`]: pairs of every kind by handle, with counters ([`StepContacts`], [`SweepContacts`]) |
 //! | [`contact_geometry`] | where a contact is: its triangles at the current poses and the segment they share ([`CollisionWorld::contact_geometry`]) |
 //! | [`handles`] | [`RoomHandle`], [`ObjectHandle`], [`CharacterHandle`] |
+//! | [`groups`] | [`CollisionGroups`]: which bodies meet (memberships and filter) |
 //! | [`error`] | [`WorldError`]: the caller's bad data, named |
 //! | `bodies` | what each body keeps between steps |
 //! | [`broad_phase`] | which bodies' root spheres meet: sort and sweep, and every pair as its reference |
@@ -28,6 +29,7 @@ pub mod contact_geometry;
 pub mod contacts;
 mod continuous_state;
 pub mod error;
+pub mod groups;
 pub mod handles;
 pub(crate) mod pass_graph;
 mod pass_pool;
@@ -44,5 +46,6 @@ pub use contacts::{
     StepContacts, SweepContacts, Swept, Timed,
 };
 pub use error::WorldError;
+pub use groups::CollisionGroups;
 pub use handles::{CharacterHandle, ObjectHandle, RoomHandle};
 pub use queries::{BodyRef, QueryCounters, QueryScratch, QueryTargets, RayHit, Touched};

@@ -28,6 +28,7 @@ use crate::sphere_tree::{NodeId, SphereTree};
 use super::bodies::{CharacterBody, RigidBody};
 use super::collision_world::CollisionWorld;
 use super::error::WorldError;
+use super::groups::CollisionGroups;
 use super::handles::{CharacterHandle, ObjectHandle, RoomHandle};
 use super::step::side;
 
@@ -69,6 +70,10 @@ pub enum QueryTargets {
     Room(RoomHandle),
     /// One object.
     Object(ObjectHandle),
+    /// Every room, object and character whose groups meet these (a query
+    /// that belongs to some groups: a hit-scan that ignores its shooter's
+    /// group).
+    Meeting(CollisionGroups),
 }
 
 impl QueryTargets {
@@ -90,8 +95,10 @@ impl QueryTargets {
             QueryTargets::All | QueryTargets::Characters | QueryTargets::Character(_)
         )
     }
-    fn wants(self, body: BodyRef) -> bool {
+    /// Whether the query looks at `body`, of groups `groups`.
+    fn wants(self, body: BodyRef, groups: CollisionGroups) -> bool {
         match (self, body) {
+            (QueryTargets::Meeting(g), _) => g.meets(groups),
             (QueryTargets::Room(h), BodyRef::Room(b)) => h == b,
             (QueryTargets::Object(h), BodyRef::Object(b)) => h == b,
             (QueryTargets::Character(h), BodyRef::Character(b)) => h == b,
@@ -409,7 +416,7 @@ impl CollisionWorld {
         };
         for (k, room) in self.rooms.iter().enumerate() {
             let body = BodyRef::Room(RoomHandle(k as u32));
-            if room.active && targets.wants(body) {
+            if room.active && targets.wants(body, room.groups) {
                 let s = clipped(shape, gather.reach());
                 rigid(room, s, false, gather.nearest_only(), scratch);
                 gather.take(body, &scratch.hits);
@@ -417,7 +424,7 @@ impl CollisionWorld {
         }
         for (k, object) in self.objects.iter().enumerate() {
             let body = BodyRef::Object(ObjectHandle(k as u32));
-            if object.active && targets.wants(body) {
+            if object.active && targets.wants(body, object.groups) {
                 let s = clipped(shape, gather.reach());
                 rigid(object, s, true, gather.nearest_only(), scratch);
                 gather.take(body, &scratch.hits);
@@ -425,11 +432,13 @@ impl CollisionWorld {
         }
         for (k, c) in self.characters.iter().enumerate() {
             let body = BodyRef::Character(CharacterHandle(k as u32));
-            if !targets.wants(body) {
+            // Only groups need the character's lock to be decided.
+            let by_groups = matches!(targets, QueryTargets::Meeting(_));
+            if !by_groups && !targets.wants(body, CollisionGroups::ALL) {
                 continue;
             }
             let mut c = c.lock().expect("no pass panicked");
-            if !c.active {
+            if !c.active || (by_groups && !targets.wants(body, c.groups)) {
                 continue;
             }
             let s = clipped(shape, gather.reach());

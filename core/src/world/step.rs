@@ -248,7 +248,16 @@ pub(crate) fn character_pairs(
             .iter_mut()
             .map(|c| c.get_mut().expect("no pass panicked").own.root),
     );
-    broad_phase.pairs(roots, pairs)
+    let tests = broad_phase.pairs(roots, pairs);
+    // Pairs whose groups do not meet are not traversed.
+    let mut groups = |i: u32| {
+        characters[i as usize]
+            .get_mut()
+            .expect("no pass panicked")
+            .groups
+    };
+    pairs.retain(|&(i, j)| groups(i).meets(groups(j)));
+    tests
 }
 
 /// Character `c` as a pass sees it.
@@ -312,6 +321,7 @@ fn own_passes(
         object_pairs,
         own,
         itself,
+        groups,
         ..
     } = c;
     let super::pass_pool::Lent { marks, scratch } = lent;
@@ -324,7 +334,7 @@ fn own_passes(
         skin,
     };
     for (r, (room, slot)) in rooms.iter().zip(slots.iter_mut()).enumerate() {
-        if !room.active {
+        if !room.active || !room.groups.meets(*groups) {
             slot.hits.clear();
             continue;
         }
@@ -366,6 +376,9 @@ fn own_passes(
     let Some(root) = own.root else { return };
     for (o, (body, oroot)) in objects.iter().zip(object_roots).enumerate() {
         let Some(oroot) = oroot else { continue };
+        if !body.groups.meets(*groups) {
+            continue;
+        }
         own.broad_phase_tests += 1;
         if !root.overlaps(oroot) {
             continue;
