@@ -4,6 +4,13 @@
 //! trees, after *Real time accurate collision detection for virtual
 //! characters* (the paper).
 //!
+//! An engine starts at [`world::CollisionWorld`]: its own rooms, objects
+//! and characters in, by handle; poses each frame; contacts by handle and
+//! kind, [`world::CollisionWorld::contact_geometry`] for where they are;
+//! ray and shape queries; collision groups, self-collision per character,
+//! bodies set inactive and back. The repository's `docs/library.md` walks
+//! through it in that order.
+//!
 //! | module | what | paper |
 //! |---|---|---|
 //! | [`geometry`] | points, spheres, triangles; the tests of the operation model; enclosing spheres; exact oracle; continuous kernels | §2, §3, §5, §6, §7 |
