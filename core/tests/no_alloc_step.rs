@@ -139,6 +139,7 @@ fn steps_allocate_nothing_once_buffers_are_sized() {
                 .build()
                 .unwrap();
             let mut scene = Scene::new(method, cones);
+            let mut events = cornertree::world::ContactEvents::new();
             let (first, second, kinds) = pool.install(|| {
                 let mut kinds = [0usize; 4];
                 let mut pass = |kinds: &mut [usize; 4]| {
@@ -146,6 +147,8 @@ fn steps_allocate_nothing_once_buffers_are_sized() {
                         .map(|k| {
                             let before = ALLOCATIONS.load(Ordering::Relaxed);
                             let c = scene.step(k);
+                            // Which bodies began or stopped touching.
+                            events.update(c);
                             let n = ALLOCATIONS.load(Ordering::Relaxed) - before;
                             kinds[0] += c.room_pairs.len();
                             kinds[1] += c.object_pairs.len();

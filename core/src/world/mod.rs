@@ -11,6 +11,7 @@
 //! | `continuous_state` | what continuous detection keeps beside the bodies |
 //! | [`character_model`] | [`CharacterModel`]: what a character instance is made from, checked once |
 //! | [`contacts`] | [`Contacts`]: pairs of every kind by handle, with counters ([`StepContacts`], [`SweepContacts`]) |
+//! | [`events`] | [`ContactEvents`]: which bodies began and stopped touching between updates |
 //! | [`contact_geometry`] | where a contact is: its triangles at the current poses and the segment they share ([`CollisionWorld::contact_geometry`]) |
 //! | [`handles`] | [`RoomHandle`], [`ObjectHandle`], [`CharacterHandle`] |
 //! | [`groups`] | [`CollisionGroups`]: which bodies meet (memberships and filter) |
@@ -29,6 +30,7 @@ pub mod contact_geometry;
 pub mod contacts;
 mod continuous_state;
 pub mod error;
+pub mod events;
 pub mod groups;
 pub mod handles;
 pub(crate) mod pass_graph;
@@ -46,6 +48,7 @@ pub use contacts::{
     StepContacts, SweepContacts, Swept, Timed,
 };
 pub use error::WorldError;
+pub use events::{BodyPair, ContactEvent, ContactEvents};
 pub use groups::CollisionGroups;
 pub use handles::{CharacterHandle, ObjectHandle, RoomHandle};
 pub use queries::{BodyRef, QueryCounters, QueryScratch, QueryTargets, RayHit, Touched};
