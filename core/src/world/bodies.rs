@@ -41,6 +41,15 @@ pub(crate) struct RigidBody {
     pub(crate) groups: CollisionGroups,
 }
 
+impl RigidBody {
+    /// Whether a character of `groups` is tested against it: it is active
+    /// and their groups meet.
+    #[inline]
+    pub(crate) fn meets(&self, groups: CollisionGroups) -> bool {
+        self.active && self.groups.meets(groups)
+    }
+}
+
 /// Joint matrices as skinning reads them: one skin matrix per joint (world ·
 /// inverse bind, placed) and the placed skeleton base.
 #[derive(Clone, Debug, PartialEq)]

@@ -438,10 +438,7 @@ impl CollisionWorld {
 
     /// Whether character `h` is tested against itself.
     pub fn self_collision_of(&self, h: CharacterHandle) -> Result<bool, WorldError> {
-        self.characters
-            .get(h.index())
-            .map(|c| c.lock().expect("no pass panicked").itself.is_some())
-            .ok_or(WorldError::UnknownCharacter(h))
+        Ok(self.locked(h)?.itself.is_some())
     }
 
     /// Rooms, objects and characters added.
@@ -458,10 +455,30 @@ impl CollisionWorld {
 
     /// Character `h` as observers read it.
     pub fn character(&self, h: CharacterHandle) -> Result<CharacterView<'_>, WorldError> {
+        self.locked(h).map(CharacterView)
+    }
+
+    /// Character `h`, locked.
+    pub(super) fn locked(
+        &self,
+        h: CharacterHandle,
+    ) -> Result<MutexGuard<'_, CharacterBody>, WorldError> {
         self.characters
             .get(h.index())
-            .map(|c| CharacterView(c.lock().expect("no pass panicked")))
+            .map(|c| c.lock().expect("no pass panicked"))
             .ok_or(WorldError::UnknownCharacter(h))
+    }
+
+    fn object_mut(&mut self, h: ObjectHandle) -> Result<&mut RigidBody, WorldError> {
+        self.objects
+            .get_mut(h.index())
+            .ok_or(WorldError::UnknownObject(h))
+    }
+
+    fn room_mut(&mut self, h: RoomHandle) -> Result<&mut RigidBody, WorldError> {
+        self.rooms
+            .get_mut(h.index())
+            .ok_or(WorldError::UnknownRoom(h))
     }
 
     /// Room `h`'s hierarchy and mesh.
@@ -538,11 +555,7 @@ impl CollisionWorld {
         pose: Isometry3<f32>,
     ) -> Result<(), WorldError> {
         check_object_pose(h, &pose)?;
-        let o = self
-            .objects
-            .get_mut(h.index())
-            .ok_or(WorldError::UnknownObject(h))?;
-        o.pose = pose;
+        self.object_mut(h)?.pose = pose;
         Ok(())
     }
 
@@ -566,20 +579,14 @@ impl CollisionWorld {
 
     /// Whether character `h` takes part in steps, sweeps and queries.
     pub fn character_is_active(&self, h: CharacterHandle) -> Result<bool, WorldError> {
-        self.characters
-            .get(h.index())
-            .map(|c| c.lock().expect("no pass panicked").active)
-            .ok_or(WorldError::UnknownCharacter(h))
+        Ok(self.locked(h)?.active)
     }
 
     /// Takes object `h` out of the world or puts it back, as
     /// [`Self::set_character_active`] does for a character (an object set
     /// active again is swept from its pose at the next sweep on).
     pub fn set_object_active(&mut self, h: ObjectHandle, active: bool) -> Result<(), WorldError> {
-        self.objects
-            .get_mut(h.index())
-            .ok_or(WorldError::UnknownObject(h))?
-            .active = active;
+        self.object_mut(h)?.active = active;
         Ok(())
     }
 
@@ -587,10 +594,7 @@ impl CollisionWorld {
     /// out and in again): while out, no character is tested against it and
     /// no query looks at it.
     pub fn set_room_active(&mut self, h: RoomHandle, active: bool) -> Result<(), WorldError> {
-        self.rooms
-            .get_mut(h.index())
-            .ok_or(WorldError::UnknownRoom(h))?
-            .active = active;
+        self.room_mut(h)?.active = active;
         Ok(())
     }
 
@@ -622,10 +626,7 @@ impl CollisionWorld {
         h: ObjectHandle,
         groups: CollisionGroups,
     ) -> Result<(), WorldError> {
-        self.objects
-            .get_mut(h.index())
-            .ok_or(WorldError::UnknownObject(h))?
-            .groups = groups;
+        self.object_mut(h)?.groups = groups;
         Ok(())
     }
 
@@ -636,10 +637,7 @@ impl CollisionWorld {
         h: RoomHandle,
         groups: CollisionGroups,
     ) -> Result<(), WorldError> {
-        self.rooms
-            .get_mut(h.index())
-            .ok_or(WorldError::UnknownRoom(h))?
-            .groups = groups;
+        self.room_mut(h)?.groups = groups;
         Ok(())
     }
 

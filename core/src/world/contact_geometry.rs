@@ -143,12 +143,7 @@ impl CollisionWorld {
     /// Triangle `t` of character `h` at its current pose, its corners
     /// skinned as the step's narrow phase skins them.
     pub fn character_triangle(&self, h: CharacterHandle, t: u32) -> Result<Triangle, WorldError> {
-        let c = self
-            .characters
-            .get(h.index())
-            .ok_or(WorldError::UnknownCharacter(h))?
-            .lock()
-            .expect("no pass panicked");
+        let c = self.locked(h)?;
         let character = c.model.character();
         let [i, j, k] = *character
             .mesh
@@ -162,21 +157,15 @@ impl CollisionWorld {
 
     /// Triangle `t` of room `h`.
     fn room_triangle(&self, h: RoomHandle, t: u32) -> Result<Triangle, WorldError> {
-        let r = self
-            .rooms
-            .get(h.index())
-            .ok_or(WorldError::UnknownRoom(h))?;
-        checked(&r.mesh, BodyRef::Room(h), t)
+        let (_, mesh) = self.room(h).ok_or(WorldError::UnknownRoom(h))?;
+        checked(mesh, BodyRef::Room(h), t)
     }
 
     /// Triangle `t` of object `h`, at its pose.
     fn object_triangle(&self, h: ObjectHandle, t: u32) -> Result<Triangle, WorldError> {
-        let o = self
-            .objects
-            .get(h.index())
-            .ok_or(WorldError::UnknownObject(h))?;
-        let tri = checked(&o.mesh, BodyRef::Object(h), t)?;
-        let m = |p: Point| o.pose * p;
+        let (_, mesh, pose) = self.object(h).ok_or(WorldError::UnknownObject(h))?;
+        let tri = checked(mesh, BodyRef::Object(h), t)?;
+        let m = |p: Point| pose * p;
         Ok(Triangle::new(m(tri.a), m(tri.b), m(tri.c)))
     }
 }

@@ -334,7 +334,7 @@ fn own_passes(
         skin,
     };
     for (r, (room, slot)) in rooms.iter().zip(slots.iter_mut()).enumerate() {
-        if !room.active || !room.groups.meets(*groups) {
+        if !room.meets(*groups) {
             slot.hits.clear();
             continue;
         }
@@ -376,7 +376,7 @@ fn own_passes(
     let Some(root) = own.root else { return };
     for (o, (body, oroot)) in objects.iter().zip(object_roots).enumerate() {
         let Some(oroot) = oroot else { continue };
-        if !body.groups.meets(*groups) {
+        if !body.meets(*groups) {
             continue;
         }
         own.broad_phase_tests += 1;

@@ -244,7 +244,7 @@ fn own_sweeps(
     own.ccd = CcdCounters::default();
     own.rooms = FrameCounters::default();
     for ((room, planes), slot) in rooms.iter().zip(planes).zip(s.rooms.iter_mut()) {
-        if !room.active || !room.groups.meets(*groups) {
+        if !room.meets(*groups) {
             slot.hits.clear();
             continue;
         }
@@ -279,7 +279,7 @@ fn own_sweeps(
     s.object_pairs.clear();
     let Some(root) = own.root else { return };
     for (o, ((body, path), &swept)) in objects.iter().zip(paths).zip(swept).enumerate() {
-        if !swept || body.tree.tree.is_empty() || !body.groups.meets(*groups) {
+        if !swept || body.tree.tree.is_empty() || !body.meets(*groups) {
             continue;
         }
         own.broad_phase_tests += 1;
