@@ -193,9 +193,17 @@ fn every_method_against_brute_force() {
                             assert!(room.tree.node(lp.leaf_b).is_leaf(), "{m}");
                         }
                     }
+                    // Our sphere-box tests (34 operations) come with the
+                    // room's node boxes, which only these methods ask.
+                    if !m.tests_each_pair_once() {
+                        assert_eq!(c.sphere_box, 0, "{m}");
+                    }
                     assert_eq!(
                         c.operations(),
-                        10 * c.sphere_sphere + 96 * c.tri_tri + 30 * c.plane_sphere
+                        10 * c.sphere_sphere
+                            + 96 * c.tri_tri
+                            + 30 * c.plane_sphere
+                            + 34 * c.sphere_box
                     );
                 }
                 // Testing the plane on the way down only removes pairs (and,

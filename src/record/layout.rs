@@ -61,10 +61,11 @@ pub fn level_path(root: &str, level: usize) -> String {
 
 /// The counters of a frame (every kind together) logged as scalars, with
 /// their entity paths under `stats/`.
-pub const COUNTER_PATHS: [&str; 9] = [
+pub const COUNTER_PATHS: [&str; 10] = [
     "stats/tests/sphere_sphere",
     "stats/tests/tri_tri",
     "stats/tests/plane_sphere",
+    "stats/tests/sphere_box",
     "stats/operations",
     "stats/refits",
     "stats/skinned_vertices",
@@ -74,10 +75,11 @@ pub const COUNTER_PATHS: [&str; 9] = [
 ];
 /// The counters logged per pair kind, as `stats/by_kind/<counter>/<kind>`
 /// (one time series view per counter shows the three kinds).
-pub const KIND_COUNTERS: [&str; 5] = [
+pub const KIND_COUNTERS: [&str; 6] = [
     "sphere_sphere",
     "tri_tri",
     "plane_sphere",
+    "sphere_box",
     "operations",
     "pairs",
 ];

@@ -666,6 +666,7 @@ impl Recorder {
                 c.sphere_sphere as f64,
                 c.tri_tri as f64,
                 c.plane_sphere as f64,
+                c.sphere_box as f64,
                 c.operations() as f64,
                 c.pairs as f64,
             ];
@@ -682,6 +683,7 @@ impl Recorder {
             c.sphere_sphere as f64,
             c.tri_tri as f64,
             c.plane_sphere as f64,
+            c.sphere_box as f64,
             ops as f64,
             c.refits as f64,
             c.skinned_vertices as f64,
@@ -890,15 +892,16 @@ impl OwnedPairs {
 fn frame_report(method: &str, k: usize, t: f32, o: &StepContacts) -> String {
     let mut s = format!(
         "### {method}, frame {k} (t = {t:.3} s)\n\n\
-         | kind | sphere-sphere | triangle-triangle | plane-sphere | operations | pairs |\n\
-         |---|---:|---:|---:|---:|---:|\n"
+         | kind | sphere-sphere | triangle-triangle | plane-sphere | sphere-box | operations | pairs |\n\
+         |---|---:|---:|---:|---:|---:|---:|\n"
     );
     let row = |name: &str, c: &FrameCounters| {
         format!(
-            "| {name} | {} | {} | {} | {} | {} |\n",
+            "| {name} | {} | {} | {} | {} | {} | {} |\n",
             c.sphere_sphere,
             c.tri_tri,
             c.plane_sphere,
+            c.sphere_box,
             c.operations(),
             c.pairs
         )

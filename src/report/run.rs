@@ -109,6 +109,7 @@ pub struct FrameRecord {
     pub sphere_sphere: u64,
     pub tri_tri: u64,
     pub plane_sphere: u64,
+    pub sphere_box: u64,
     pub operations: u64,
     pub refits: u64,
     pub skinned_vertices: u64,
@@ -140,6 +141,7 @@ pub struct KindRecord {
     pub sphere_sphere: u64,
     pub tri_tri: u64,
     pub plane_sphere: u64,
+    pub sphere_box: u64,
     pub operations: u64,
     pub pairs: u64,
 }
@@ -150,6 +152,7 @@ impl KindRecord {
             sphere_sphere: c.sphere_sphere,
             tri_tri: c.tri_tri,
             plane_sphere: c.plane_sphere,
+            sphere_box: c.sphere_box,
             operations: c.operations(),
             pairs: c.pairs,
         }
@@ -220,6 +223,7 @@ impl FrameRecord {
             sphere_sphere: c.sphere_sphere,
             tri_tri: c.tri_tri,
             plane_sphere: c.plane_sphere,
+            sphere_box: c.sphere_box,
             operations: c.operations(),
             refits: c.refits,
             skinned_vertices: c.skinned_vertices,
@@ -299,6 +303,8 @@ pub struct Summary {
     pub sphere_sphere: Stat,
     pub tri_tri: Stat,
     pub plane_sphere: Stat,
+    /// Sphere-box tests (ours; the room's node boxes).
+    pub sphere_box: Stat,
     pub operations: Stat,
     pub refits: Stat,
     pub time_ms: Stat,
@@ -366,6 +372,7 @@ pub struct SummaryBuilder {
     sphere_sphere: StatSum,
     tri_tri: StatSum,
     plane_sphere: StatSum,
+    sphere_box: StatSum,
     operations: StatSum,
     refits: StatSum,
     time_ms: StatSum,
@@ -391,6 +398,7 @@ impl SummaryBuilder {
             sphere_sphere: StatSum::default(),
             tri_tri: StatSum::default(),
             plane_sphere: StatSum::default(),
+            sphere_box: StatSum::default(),
             operations: StatSum::default(),
             refits: StatSum::default(),
             time_ms: StatSum::default(),
@@ -411,6 +419,7 @@ impl SummaryBuilder {
         self.sphere_sphere.add(x.sphere_sphere as f64);
         self.tri_tri.add(x.tri_tri as f64);
         self.plane_sphere.add(x.plane_sphere as f64);
+        self.sphere_box.add(x.sphere_box as f64);
         self.operations.add(x.operations as f64);
         self.refits.add(x.refits as f64);
         self.time_ms.add(x.time_ms);
@@ -469,6 +478,7 @@ impl SummaryBuilder {
             sphere_sphere: self.sphere_sphere.stat(),
             tri_tri: self.tri_tri.stat(),
             plane_sphere: self.plane_sphere.stat(),
+            sphere_box: self.sphere_box.stat(),
             operations: self.operations.stat(),
             refits: self.refits.stat(),
             time_ms: self.time_ms.stat(),
@@ -518,6 +528,7 @@ impl SummaryTable<'_> {
             ("Sph-Sph tests (max / mean)", col(&|m| mm(m.sphere_sphere))),
             ("Tri-Tri tests (max / mean)", col(&|m| mm(m.tri_tri))),
             ("Pla-Sph tests (max / mean)", col(&|m| mm(m.plane_sphere))),
+            ("Sph-Box tests (max / mean)", col(&|m| mm(m.sphere_box))),
             ("Operations (max / mean)", col(&|m| mm(m.operations))),
             ("Refits (max / mean)", col(&|m| mm(m.refits))),
             (

@@ -6,6 +6,7 @@
 //! | [`triangle`] | [`Triangle`] | |
 //! | [`plane_sphere`] | Algorithm 1, the plane-sphere test (30 operations) | §5 |
 //! | [`tri_tri`] | the narrow phase's triangle-triangle test: the faster of the two below (96 operations) | §3 narrow phase |
+//! | [`sphere_box`] | a sphere against an axis-aligned box kept in six bytes around a static node's sphere (ours; the room's node boxes) | |
 //! | [`triangle_prism`] | whether a sphere can reach a triangle, by its three edge planes (before the triangle-triangle test of a big triangle; ours) | |
 //! | [`tropp`] | Tropp, Tal and Shimshoni's triangle-triangle test | §3 narrow phase |
 //! | [`edge_crossing`] | edge-crossing triangle-triangle test (crossing edges of each against the other) | |
@@ -51,6 +52,7 @@ pub mod plane_sphere;
 pub mod query_shapes;
 pub mod scalar;
 pub mod sphere;
+pub mod sphere_box;
 pub mod sphere_sweep;
 pub mod star_contour;
 pub mod tri_tri;
@@ -95,4 +97,7 @@ pub mod ops {
     pub const TRI_TRI: u64 = 96;
     /// Plane-sphere test of Algorithm 1.
     pub const PLANE_SPHERE: u64 = 30;
+    /// A sphere against a room node's box (ours; not in the paper's model:
+    /// the operations it pays, counted in [`super::sphere_box`]'s tests).
+    pub const SPHERE_BOX: u64 = super::sphere_box::SPHERE_BOX;
 }

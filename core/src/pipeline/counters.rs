@@ -15,6 +15,9 @@ pub struct FrameCounters {
     pub tri_tri: u64,
     /// Plane-sphere tests (30 operations each).
     pub plane_sphere: u64,
+    /// Sphere-box tests against a room's node boxes (34 operations each;
+    /// ours, [`crate::geometry::sphere_box`]).
+    pub sphere_box: u64,
     /// Character spheres refit.
     pub refits: u64,
     /// Distinct colliding pairs.
@@ -51,7 +54,8 @@ impl FrameTime {
 }
 
 impl FrameCounters {
-    /// Basic operations in the paper's model: `10·SS + 96·TT + 30·PS` (§6).
+    /// Basic operations in the paper's model: `10·SS + 96·TT + 30·PS` (§6),
+    /// plus our sphere-box tests' `34·SB`.
     ///
     /// ```
     /// use cornertree::pipeline::FrameCounters;
@@ -63,6 +67,7 @@ impl FrameCounters {
         ops::SPHERE_SPHERE * self.sphere_sphere
             + ops::TRI_TRI * self.tri_tri
             + ops::PLANE_SPHERE * self.plane_sphere
+            + ops::SPHERE_BOX * self.sphere_box
     }
 
     /// Adds `b`'s tests, pairs, refits, skinned vertices and times.
@@ -70,6 +75,7 @@ impl FrameCounters {
         self.sphere_sphere += b.sphere_sphere;
         self.tri_tri += b.tri_tri;
         self.plane_sphere += b.plane_sphere;
+        self.sphere_box += b.sphere_box;
         self.refits += b.refits;
         self.pairs += b.pairs;
         self.skinned_vertices += b.skinned_vertices;

@@ -9,6 +9,7 @@ use crate::geometry::triangle_prism::TrianglePrism;
 use crate::geometry::{Real, Sphere};
 use crate::mesh::{TriMesh, TriangleId};
 use crate::prefetch::prefetch_at;
+use crate::sphere_tree::node_boxes::NodeBoxes;
 use crate::sphere_tree::{BuildParams, Node, NodeId, SphereTree, build_tree};
 
 use super::{LeafTest, Method};
@@ -70,6 +71,9 @@ pub struct EnvironmentTree {
     pub big: Vec<bool>,
     /// Whether a division stopped at the level cap somewhere.
     pub capped: bool,
+    /// Each node's box of its triangles, for the methods that test each
+    /// pair once ([`Self::plane_prism_guard`]); empty for the others.
+    boxes: NodeBoxes,
 }
 
 impl EnvironmentTree {
@@ -83,7 +87,9 @@ impl EnvironmentTree {
             .collect();
         let Some(kind) = method.division() else {
             let n = base.len();
+            let boxes = Self::boxes_for(method, &base, mesh);
             return Self {
+                boxes,
                 method,
                 threshold,
                 tree: base,
@@ -173,7 +179,9 @@ impl EnvironmentTree {
             .iter()
             .map(|d| d.tree.node(NodeId::ROOT).sphere)
             .collect();
+        let boxes = Self::boxes_for(method, &tree, mesh);
         Self {
+            boxes,
             method,
             threshold,
             tree,
@@ -186,6 +194,17 @@ impl EnvironmentTree {
             big,
             capped,
         }
+    }
+
+    /// The node boxes of `tree` over `mesh` if `method` guards with them.
+    fn boxes_for(method: Method, tree: &SphereTree, mesh: &TriMesh) -> NodeBoxes {
+        if !method.tests_each_pair_once() {
+            return NodeBoxes::default();
+        }
+        NodeBoxes::build(tree, |p| {
+            let t = mesh.triangle(TriangleId(p));
+            [t.a, t.b, t.c]
+        })
     }
 
     /// Whether the sphere `s` meets the plane of the big triangle whose
@@ -230,26 +249,34 @@ impl EnvironmentTree {
         }
     }
 
-    /// [`Self::plane_guard`] that also drops a sphere lying wholly outside
-    /// one of the big triangle's edge planes ([`TrianglePrism`]): it holds no
-    /// point of the triangle, so no character triangle under it meets the
-    /// triangle. With `sphere_tree::grouped` descents, which test
-    /// spheres against a whole division's root sphere, this keeps them to
-    /// the big triangle's prism. Each sphere tested counts one plane-sphere
-    /// test for the plane and one for the edge planes, if it gets there.
+    /// The guard of the methods that test each pair once. At a big
+    /// triangle's division leaf, [`Self::plane_guard`]'s plane test, then
+    /// the triangle's edge planes ([`TrianglePrism`]): a sphere wholly
+    /// outside one holds no point of the triangle, so no character triangle
+    /// under it meets the triangle. With `sphere_tree::grouped` descents,
+    /// which test spheres against a whole division's root sphere, this keeps
+    /// them to the big triangle's prism. At every other node, the node's box
+    /// of its triangles ([`NodeBoxes`]): a sphere wholly outside it holds
+    /// no point of them. Each sphere tested counts one plane-sphere test
+    /// for the plane and one for the edge planes, if it gets there, in
+    /// `plane_tests`; each box test one in `box_tests`.
     #[inline]
     pub fn plane_prism_guard<'a>(
         &'a self,
-        tests: &'a mut u64,
+        plane_tests: &'a mut u64,
+        box_tests: &'a mut u64,
     ) -> impl FnMut(NodeId, &Sphere) -> bool + 'a {
         move |j, s| match self.leaf_division[j.index()] {
-            NOT_A_DIVISION_LEAF => true,
+            NOT_A_DIVISION_LEAF => {
+                *box_tests += 1;
+                self.boxes.may_meet(&self.tree, j, s)
+            }
             d => {
-                *tests += 1;
+                *plane_tests += 1;
                 if !self.planes[d as usize].meets(s) {
                     return false;
                 }
-                *tests += 1;
+                *plane_tests += 1;
                 self.prisms[d as usize].may_meet(s)
             }
         }
@@ -282,8 +309,8 @@ impl EnvironmentTree {
         self.big.iter().filter(|b| **b).count()
     }
 
-    /// Bytes of the sphere hierarchy (nodes).
+    /// Bytes of the sphere hierarchy (nodes) and its node boxes.
     pub fn bytes(&self) -> usize {
-        self.tree.bytes()
+        self.tree.bytes() + self.boxes.bytes()
     }
 }

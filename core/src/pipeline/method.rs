@@ -67,7 +67,10 @@ pub enum Method {
     /// sphere is descended once per big triangle (against the division's
     /// root sphere, within the triangle's plane and edge planes) and each
     /// (triangle, big triangle) pair is tested once
-    /// ([`Method::tests_each_pair_once`]).
+    /// ([`Method::tests_each_pair_once`]). Elsewhere in a static body's tree,
+    /// a character sphere must also reach the node's box of its triangles
+    /// (`sphere_tree::node_boxes`; docs/performance-journal.md, "Room node
+    /// boxes").
     PrunedTriTri,
     /// Ours: `pruned-tri-tri` with big triangles left whole
     /// ([`DivisionKind::Whole`]): a big triangle is one leaf, and a character
@@ -236,7 +239,7 @@ impl Choice for Method {
                 "ours: quaternary-plane-sphere pruned at the plane"
             }
             Method::PrunedTriTri => {
-                "ours: corner-trees pruned at the plane and edge planes, triangle-triangle leaves, each pair once (original's pairs)"
+                "ours: corner-trees pruned at the plane and edge planes, the room's other nodes at their boxes, triangle-triangle leaves, each pair once (original's pairs)"
             }
             Method::UndividedPrunedTriTri => {
                 "ours: pruned-tri-tri with big triangles left whole (original's pairs, fewest tests)"

@@ -37,6 +37,8 @@ pub(crate) struct Traversed {
     pub(crate) guard_sphere_tests: u64,
     /// Plane-sphere tests a guard made on the way down.
     pub(crate) plane_tests: u64,
+    /// Sphere-box tests a guard made on the way down.
+    pub(crate) box_tests: u64,
     /// Time-stamp ticks spent refitting, when timed.
     pub(crate) refit_ticks: u64,
     /// Leaf tests a traversal made on the way (a ray's nearest-hit
@@ -188,6 +190,7 @@ pub(crate) fn run<P: Pass>(
     }
     c.sphere_sphere = tr.stats.sphere_tests + tr.guard_sphere_tests;
     c.plane_sphere = tr.plane_tests;
+    c.sphere_box = tr.box_tests;
     c.tri_tri = tr.leaf_tests;
 
     let t0 = now();

@@ -141,10 +141,10 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
             body,
             log: &mut *self.log,
         };
-        let mut plane_tests = 0u64;
+        let (mut plane_tests, mut box_tests) = (0u64, 0u64);
         let push = |p| leaf_pairs.push(p);
         let stats = if self.method.tests_each_pair_once() {
-            let guard = body.plane_prism_guard(&mut plane_tests);
+            let guard = body.plane_prism_guard(&mut plane_tests, &mut box_tests);
             traverse_grouped(
                 &mut a,
                 &mut b,
@@ -164,6 +164,7 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
             stats,
             guard_sphere_tests: 0,
             plane_tests,
+            box_tests,
             refit_ticks: a.refit_ticks(),
             leaf_tests: 0,
         }

@@ -138,6 +138,7 @@ impl Pass for SweptRoomPass<'_> {
             stats,
             guard_sphere_tests: sphere_tests,
             plane_tests,
+            box_tests: 0,
             refit_ticks: 0,
             leaf_tests: 0,
         }

@@ -5,6 +5,7 @@
 //! | [`node`] | [`SphereTree`], [`Node`], [`NodeId`]: compact storage, children after parents |
 //! | [`build`] | top-down binary split, then collapse to an n-ary tree |
 //! | [`character`] | the character's tree: one tree per joint under root and extremity spheres |
+//! | [`node_boxes`] | a static tree's nodes' boxes of their triangles, six bytes a node (ours: the room's guard) |
 //! | [`containment`] | distinct vertices per node; checking refit spheres hold them |
 //! | [`refit`] | on-demand refit from per-joint weight ranges (§3 sphere update) |
 //! | `refit_ahead` | last frame's asked-for nodes refit in one loop before traversal |
@@ -32,6 +33,7 @@ pub mod containment;
 pub mod flat_patches;
 pub(crate) mod grouped;
 pub mod node;
+pub mod node_boxes;
 pub mod normal_cones;
 pub(crate) mod pass_marks;
 pub mod refit;
