@@ -28,6 +28,8 @@ pub struct ContinuousFrameRecord {
     pub sphere_sphere: u64,
     pub tri_tri: u64,
     pub plane_sphere: u64,
+    /// A swept sphere against a room node's box.
+    pub sphere_box: u64,
     pub operations: u64,
     /// Both ends.
     pub refits: u64,
@@ -108,6 +110,7 @@ impl ContinuousFrameRecord {
             sphere_sphere: o.total.sphere_sphere,
             tri_tri: o.total.tri_tri,
             plane_sphere: o.total.plane_sphere,
+            sphere_box: o.total.sphere_box,
             operations: o.total.operations(),
             refits: o.total.refits,
             skinned_vertices: o.total.skinned_vertices,

@@ -267,10 +267,7 @@ impl EnvironmentTree {
         box_tests: &'a mut u64,
     ) -> impl FnMut(NodeId, &Sphere) -> bool + 'a {
         move |j, s| match self.leaf_division[j.index()] {
-            NOT_A_DIVISION_LEAF => {
-                *box_tests += 1;
-                self.boxes.may_meet(&self.tree, j, s)
-            }
+            NOT_A_DIVISION_LEAF => self.box_may_meet(j, s, box_tests),
             d => {
                 *plane_tests += 1;
                 if !self.planes[d as usize].meets(s) {
@@ -280,6 +277,20 @@ impl EnvironmentTree {
                 self.prisms[d as usize].may_meet(s)
             }
         }
+    }
+
+    /// Whether the sphere `s` may reach the triangles under node `j` by the
+    /// node's box ([`NodeBoxes`]): `true` where this tree keeps no boxes
+    /// (the methods that do not test each pair once) and at a big
+    /// triangle's division leaf (its plane and edge planes guard it). Each
+    /// box test made counts one in `tests`.
+    #[inline]
+    pub fn box_may_meet(&self, j: NodeId, s: &Sphere, tests: &mut u64) -> bool {
+        if self.boxes.is_empty() || self.leaf_division[j.index()] != NOT_A_DIVISION_LEAF {
+            return true;
+        }
+        *tests += 1;
+        self.boxes.may_meet(&self.tree, j, s)
     }
 
     /// Starts loading what a traversal reads of node `id`: the node and its

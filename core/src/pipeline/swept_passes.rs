@@ -109,28 +109,32 @@ impl Pass for SweptRoomPass<'_> {
         let (room, planes) = (self.room, self.planes);
         let prunes = self.method.prunes_at_plane();
         let nodes = room.tree.nodes();
-        let (mut plane_tests, mut sphere_tests) = (0u64, 0u64);
+        let (mut plane_tests, mut sphere_tests, mut box_tests) = (0u64, 0u64, 0u64);
         let (mut a, cache) = self.character.hierarchy();
         let mut b = Still(&room.tree);
-        // Untagged, the guard is the discrete one.
-        let guard = |j: NodeId, s: &Sphere| match cache.node_of(s) {
-            Some(id) => {
-                let e = cache.ends(id);
-                if prunes && let Some((d, _)) = room.division_node[j.index()] {
-                    plane_tests += 1;
-                    if planes[d as usize].sweep_toi(&e.start, &e.end).is_none() {
-                        return false;
+        // First the node's box (a swept sphere holds the node's triangles
+        // over the whole step). Untagged, the rest is the discrete guard.
+        let guard = |j: NodeId, s: &Sphere| {
+            room.box_may_meet(j, s, &mut box_tests)
+                && match cache.node_of(s) {
+                    Some(id) => {
+                        let e = cache.ends(id);
+                        if prunes && let Some((d, _)) = room.division_node[j.index()] {
+                            plane_tests += 1;
+                            if planes[d as usize].sweep_toi(&e.start, &e.end).is_none() {
+                                return false;
+                            }
+                        }
+                        let sj = nodes[j.index()].sphere;
+                        sphere_tests += 1;
+                        sweeps_meet(&e.start, &e.end, &sj, &sj)
                     }
+                    None if prunes && room.is_division_leaf(j) => {
+                        plane_tests += 1;
+                        room.leaf_meets_plane(j, s) == Some(true)
+                    }
+                    None => true,
                 }
-                let sj = nodes[j.index()].sphere;
-                sphere_tests += 1;
-                sweeps_meet(&e.start, &e.end, &sj, &sj)
-            }
-            None if prunes && room.is_division_leaf(j) => {
-                plane_tests += 1;
-                room.leaf_meets_plane(j, s) == Some(true)
-            }
-            None => true,
         };
         let stats = traverse_guarded(&mut a, &mut b, ws, guard, |p| leaf_pairs.push(p));
         distinct_pairs(leaf_pairs);
@@ -138,7 +142,7 @@ impl Pass for SweptRoomPass<'_> {
             stats,
             guard_sphere_tests: sphere_tests,
             plane_tests,
-            box_tests: 0,
+            box_tests,
             refit_ticks: 0,
             leaf_tests: 0,
         }
