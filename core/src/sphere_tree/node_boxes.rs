@@ -7,8 +7,9 @@
 //! shelves), a node's box is a thin slab where its sphere is a ball: a
 //! character sphere near the surface overlaps the ball but not the slab.
 //! Traversal asks the box after the sphere test passes
-//! (`EnvironmentTree::plane_prism_guard`), so a pair whose character sphere
-//! misses the box is dropped with everything under it.
+//! (`EnvironmentTree::box_may_meet`, in the discrete guard and, with a
+//! swept sphere, in the continuous room pass's), so a pair whose character
+//! sphere misses the box is dropped with everything under it.
 //!
 //! Built from the leaves up: a leaf's box is its triangle's, an inner
 //! node's the union of its children's boxes as stored (so a child's clip to
