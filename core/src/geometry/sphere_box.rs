@@ -154,22 +154,13 @@ mod tests {
     use crate::geometry::counted::{Counted, count_operations};
     use crate::geometry::{Point, Triangle, bounds_of};
 
-    /// A small deterministic generator (xorshift).
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
-        }
-        fn point(&mut self, scale: f32, at: f32) -> Point {
-            Point::new(
-                at + scale * (self.next() - 0.5),
-                at + scale * (self.next() - 0.5),
-                at + scale * (self.next() - 0.5),
-            )
-        }
+    /// A point within `scale / 2` of `(at, at, at)` on each axis.
+    fn point(unit: &mut impl FnMut() -> f32, scale: f32, at: f32) -> Point {
+        Point::new(
+            at + scale * (unit() - 0.5),
+            at + scale * (unit() - 0.5),
+            at + scale * (unit() - 0.5),
+        )
     }
 
     fn wide(p: Point) -> [f64; 3] {
@@ -187,15 +178,15 @@ mod tests {
     /// thickness), spheres from a point to larger than the triangle.
     #[test]
     fn never_drops_a_sphere_that_reaches_the_triangle() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let mut unit = crate::test_rng::unit_floats(0x9e37_79b9_7f4a_7c15);
         let (mut reached, mut dropped, mut missed) = (0, 0, 0);
         for i in 0..20_000 {
             let scale = [1e-3, 0.05, 1.0, 40.0][i % 4];
             let at = [0.0, 3.0, -250.0][i % 3];
             let mut t = Triangle::new(
-                rng.point(scale, at),
-                rng.point(scale, at),
-                rng.point(scale, at),
+                point(&mut unit, scale, at),
+                point(&mut unit, scale, at),
+                point(&mut unit, scale, at),
             );
             if i % 5 == 0 {
                 // Flat on a plane of constant y.
@@ -206,8 +197,8 @@ mod tests {
             let (min, max) = bounds_of([t.a, t.b, t.c]).unwrap();
             let b = QuantizedBox::enclosing(wide(min), wide(max), &around);
             for _ in 0..8 {
-                let centre = rng.point(scale * 2.0, at);
-                let radius = scale * rng.next() * [0.0, 0.3, 1.0][i % 3];
+                let centre = point(&mut unit, scale * 2.0, at);
+                let radius = scale * unit() * [0.0, 0.3, 1.0][i % 3];
                 let s = Sphere::new(centre, radius);
                 let d = point_triangle_distance(&centre.cast::<f64>(), &t);
                 let keeps = sphere_meets_box(&s, &b, &around);

@@ -163,13 +163,7 @@ mod tests {
                 }
             }
         }
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = crate::test_rng::unit_floats(0x2545_f491_4f6c_dd1d);
         let (mut kept_reaching, mut missing, mut dropped) = (0u32, 0u32, 0u32);
         for (i, under_i) in under.iter().enumerate() {
             let node = tree.nodes()[i].sphere;
