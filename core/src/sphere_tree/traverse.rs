@@ -264,8 +264,9 @@ fn sort_pushed(ws: &mut Workspace, from: usize) {
 /// [`super::self_traverse::traverse_self`], from the pair `start` (node
 /// `start.0` of `a`, `start.1` of `b`; [`ROOTS`] for two whole trees): with
 /// `marks`, a leaf `j` of `b` for which `group(j)` names a group descends
-/// each sphere of `a` once per group, against the group's sphere (see
-/// [`super::grouped`]); without, no leaf is grouped. `guard(i, j, s)` is
+/// each sphere of `a` once per group, against the group's sphere, and
+/// `a`'s leaves under it go to `on_leaf_pair` without a sphere of their
+/// own (see [`super::grouped`]); without, no leaf is grouped. `guard(i, j, s)` is
 /// asked of every pair `(i, j)` pushed, with `s` the sphere of `i`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn traverse_core<A, B, K, O, G, F>(
@@ -342,7 +343,20 @@ where
                 let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
                 let pushed_from = ws.stack.len();
                 if open_a {
+                    // A group's leaf lets `a`'s leaves through unrefit (see
+                    // `super::grouped`): no sphere, no test, no guard.
+                    let through = grouped.is_some();
                     for c in na.children() {
+                        if through && a.tree().node(NodeId(c)).is_leaf() {
+                            ws.stack.push(Pending {
+                                pair: (NodeId(c), j),
+                                spheres: (sa, sb),
+                            });
+                            if O::ORDERED {
+                                ws.keys.push(order.key(&sa));
+                            }
+                            continue;
+                        }
                         stats.sphere_tests += 1;
                         a.tested(NodeId(c));
                         b.tested(j);
