@@ -344,17 +344,21 @@ where
                 let pushed_from = ws.stack.len();
                 if open_a {
                     // A group's leaf lets `a`'s leaves through unrefit (see
-                    // `super::grouped`): no sphere, no test, no guard.
-                    let through = grouped.is_some();
+                    // `super::grouped`): no sphere, no test, no guard, and
+                    // no mark (a leaf reached again for the group by another
+                    // path meets the caller's repeat filter).
+                    let through = grouped.and(nb.primitive());
                     for c in na.children() {
-                        if through && a.tree().node(NodeId(c)).is_leaf() {
-                            ws.stack.push(Pending {
-                                pair: (NodeId(c), j),
-                                spheres: (sa, sb),
+                        if let (Some(pb), Some(pa)) =
+                            (through, a.tree().node(NodeId(c)).primitive())
+                        {
+                            stats.leaf_pairs += 1;
+                            on_leaf_pair(LeafPair {
+                                leaf_a: NodeId(c),
+                                leaf_b: j,
+                                primitive_a: pa,
+                                primitive_b: pb,
                             });
-                            if O::ORDERED {
-                                ws.keys.push(order.key(&sa));
-                            }
                             continue;
                         }
                         stats.sphere_tests += 1;
