@@ -109,7 +109,8 @@ pub(super) mod tests {
 
     /// Against plain traversal of the same trees: every (primitive of `a`,
     /// group of `b`'s leaf) that plain traversal reaches is reached with
-    /// groups too, whatever the grouping.
+    /// groups too, whatever the grouping; and no leaf of `a` is asked for
+    /// its sphere to meet a group's leaf (it is let through).
     #[test]
     fn grouping_loses_no_pair() {
         for seed in 0..40u64 {

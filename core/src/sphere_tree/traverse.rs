@@ -349,8 +349,8 @@ where
                     // path meets the caller's repeat filter).
                     let through = grouped.and(nb.primitive());
                     for c in na.children() {
-                        if let (Some(pb), Some(pa)) =
-                            (through, a.tree().node(NodeId(c)).primitive())
+                        if let Some(pb) = through
+                            && let Some(pa) = a.tree().node(NodeId(c)).primitive()
                         {
                             stats.leaf_pairs += 1;
                             on_leaf_pair(LeafPair {
