@@ -99,6 +99,35 @@ impl TrianglePrism {
         }
         true
     }
+
+    /// Whether every corner of `t` lies surely strictly inside the prism
+    /// (inside all three edge planes, by the same margin [`Self::may_meet`]
+    /// allows for rounding): then `t` meets the triangle exactly where it
+    /// meets the triangle's plane, since the prism is convex and cuts the
+    /// plane in the triangle. Never for a degenerate triangle.
+    ///
+    /// ```
+    /// use cornertree::geometry::triangle_prism::TrianglePrism;
+    /// use cornertree::geometry::{Point, Triangle};
+    ///
+    /// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+    ///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+    /// };
+    /// let floor = TrianglePrism::new(&tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]));
+    /// assert!(floor.holds_inside(&tri([0.1, 0.1, -1.0], [0.2, 0.1, 1.0], [0.1, 0.3, 5.0])));
+    /// // A corner on the edge x = 0: not strictly inside.
+    /// assert!(!floor.holds_inside(&tri([0.0, 0.1, -1.0], [0.2, 0.1, 1.0], [0.1, 0.3, 5.0])));
+    /// ```
+    #[inline]
+    pub fn holds_inside(&self, t: &Triangle) -> bool {
+        [t.a, t.b, t.c].iter().all(|p| {
+            let c = p.coords.map(|x| x as f64);
+            let scale = c.x.abs() + c.y.abs() + c.z.abs();
+            (0..3).all(|k| {
+                self.normals[k].dot(&c) - self.offsets[k] > MARGIN * (scale + self.offsets[k].abs())
+            })
+        })
+    }
 }
 
 #[cfg(test)]
@@ -106,6 +135,39 @@ mod tests {
     use super::TrianglePrism;
     use crate::geometry::closest_point::point_triangle_distance;
     use crate::geometry::{Point, Sphere, Triangle};
+
+    /// A point `holds_inside` claims is inside: its distance to the
+    /// triangle is its distance to the triangle's plane (its foot lies in
+    /// the triangle); and a good share of random points is claimed.
+    #[test]
+    fn inside_only_where_the_foot_is_in_the_triangle() {
+        let mut unit = crate::test_rng::unit_floats(0x0005_eed0_f1a5);
+        let mut next = move || unit() - 0.5;
+        let mut claimed = 0;
+        for _ in 0..20_000 {
+            let t = Triangle::new(
+                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
+                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
+                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
+            );
+            let prism = TrianglePrism::new(&t);
+            let p = Point::new(3.0 * next(), 3.0 * next(), 3.0 * next());
+            let p64 = p.map(|v| v as f64);
+            let v = [t.a, t.b, t.c].map(|q| q.coords.map(|x| x as f64));
+            let n = (v[1] - v[0]).cross(&(v[2] - v[0])).normalize();
+            let to_plane = n.dot(&(p64.coords - v[0])).abs();
+            let to_triangle = point_triangle_distance(&p64, &t);
+            let inside = prism.holds_inside(&Triangle::new(p, p, p));
+            if inside {
+                claimed += 1;
+                assert!(
+                    (to_triangle - to_plane).abs() <= 1e-9 * (1.0 + to_plane),
+                    "{t:?} {p:?}: {to_triangle} against {to_plane}"
+                );
+            }
+        }
+        assert!(claimed > 1_000, "claimed {claimed}");
+    }
 
     /// Against the exact distance from the centre to the triangle: a ball
     /// that reaches the triangle is never rejected, and a ball far from the

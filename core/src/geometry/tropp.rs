@@ -198,6 +198,43 @@ impl<T: Scalar> Prepared<T> {
     }
 }
 
+impl<T: Scalar> Prepared<T> {
+    /// Whether `t`'s corners lie strictly on one side of this triangle's
+    /// plane, decided by the very arithmetic of [`prepared_intersect`]'s
+    /// plane-side exit (`t` widened, its corners' offsets from this
+    /// triangle's first corner along its normal, snapped alike): when it is
+    /// `true`, `prepared_intersect` of `Prepared::new(t)` with `self` is
+    /// `false` either way round. Costs `t`'s corners and three offsets, not
+    /// `t`'s preparation: a small triangle tested against a big one usually
+    /// lies on one side of the big one's plane (a sole above the floor).
+    /// `false` for a zero-area `self` (no plane).
+    ///
+    /// ```
+    /// use cornertree::geometry::tropp::{Prepared, prepared_intersect};
+    /// use cornertree::geometry::{Point, Triangle};
+    ///
+    /// let tri = |a: [f32; 3], b: [f32; 3], c: [f32; 3]| {
+    ///     Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+    /// };
+    /// let floor = Prepared::<f64>::new(&tri([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]));
+    /// let above = tri([0.2, 0.2, 0.1], [0.5, 0.2, 1.0], [0.2, 0.5, 0.3]);
+    /// let resting = tri([0.2, 0.2, 0.0], [0.5, 0.2, 1.0], [0.2, 0.5, 0.3]);
+    /// assert!(floor.plane_has_on_one_side(&above));
+    /// assert!(!prepared_intersect(&Prepared::new(&above), &floor));
+    /// // A corner on the plane: not strictly on one side (and touching).
+    /// assert!(!floor.plane_has_on_one_side(&resting));
+    /// assert!(prepared_intersect(&Prepared::new(&resting), &floor));
+    /// ```
+    #[inline]
+    pub fn plane_has_on_one_side(&self, t: &Triangle) -> bool {
+        if self.flat {
+            return false;
+        }
+        let w = from_corner(&widen_triangle::<T>(t), &self.p[0]);
+        one_side(&plane_offsets_scaled(&w, &self.n, self.uv2))
+    }
+}
+
 /// Whether the closed triangles `a` and `b` share a point
 /// ([`triangles_intersect_as`] on prepared triangles).
 ///
@@ -361,9 +398,65 @@ mod tests {
     use super::*;
     use crate::geometry::Point;
     use crate::geometry::coplanar_degenerate::plane_offsets;
+    use crate::geometry::triangle_prism::TrianglePrism;
 
     fn tri(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> Triangle {
         Triangle::new(Point::from(a), Point::from(b), Point::from(c))
+    }
+
+    /// `plane_has_on_one_side` claims only pairs the full test rejects,
+    /// both ways round, and does claim some: random small triangles about
+    /// the planes of random big ones, corners on the plane included. And
+    /// a pair it does not claim whose small triangle lies inside the big
+    /// one's edge planes ([`TrianglePrism::holds_inside`]) is one the test
+    /// says meets.
+    #[test]
+    fn one_side_of_the_plane_only_where_the_test_says_apart() {
+        let mut r = crate::test_rng::unit_floats(17);
+        let (mut claimed, mut apart, mut inside) = (0, 0, 0);
+        for _ in 0..20_000 {
+            let big = tri(
+                [r() * 8.0 - 4.0, 0.0, r() * 8.0 - 4.0],
+                [
+                    r() * 8.0 - 4.0,
+                    if r() < 0.5 { 0.0 } else { r() * 0.5 },
+                    r() * 8.0 - 4.0,
+                ],
+                [r() * 8.0 - 4.0, 0.0, r() * 8.0 - 4.0],
+            );
+            let c = [r() - 0.5, r() * 0.2 - 0.1, r() - 0.5];
+            let mut corner = || {
+                let on_plane = r() < 0.2;
+                [
+                    c[0] + r() * 0.1,
+                    if on_plane {
+                        0.0
+                    } else {
+                        c[1] + r() * 0.1 - 0.05
+                    },
+                    c[2] + r() * 0.1,
+                ]
+            };
+            let small = tri(corner(), corner(), corner());
+            let (pb, ps) = (Prepared::<f64>::new(&big), Prepared::<f64>::new(&small));
+            let meets = prepared_intersect(&ps, &pb);
+            assert_eq!(meets, prepared_intersect(&pb, &ps), "{small:?} {big:?}");
+            apart += !meets as u32;
+            if pb.plane_has_on_one_side(&small) {
+                claimed += 1;
+                assert!(!meets, "claimed apart, but they meet: {small:?} {big:?}");
+            } else if TrianglePrism::new(&big).holds_inside(&small) {
+                // The rigid pass's second shortcut: reaching the plane
+                // inside the edge planes is a contact.
+                inside += 1;
+                assert!(
+                    meets,
+                    "inside and reaching the plane, but apart: {small:?} {big:?}"
+                );
+            }
+        }
+        assert!(claimed > 5_000, "claimed {claimed} of {apart} apart");
+        assert!(inside > 500, "{inside} inside");
     }
 
     #[test]

@@ -301,6 +301,16 @@ impl EnvironmentTree {
         prefetch_at(&self.leaf_division, id.index());
     }
 
+    /// The edge planes of the big triangle whose division leaf is `id`,
+    /// where this tree keeps them (the methods that test each pair once).
+    #[inline]
+    pub fn prism_of(&self, id: NodeId) -> Option<&TrianglePrism> {
+        match self.leaf_division[id.index()] {
+            NOT_A_DIVISION_LEAF => None,
+            d => self.prisms.get(d as usize),
+        }
+    }
+
     /// Whether node `id` is a leaf of a big triangle's division.
     #[inline]
     pub fn is_division_leaf(&self, id: NodeId) -> bool {

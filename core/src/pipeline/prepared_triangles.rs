@@ -62,6 +62,14 @@ impl PreparedTriangles {
         }
     }
 
+    /// Whether triangle `id` is kept (prepared since the last
+    /// [`PreparedTriangles::clear`]): [`PreparedTriangles::get`] would not
+    /// ask for it.
+    #[inline(always)]
+    pub fn holds(&self, id: u32) -> bool {
+        self.slots[id as usize & (SLOTS - 1)].0 == (self.pass as u64) << 32 | id as u64
+    }
+
     /// Triangle `id` prepared, from `triangle()` unless kept since the last
     /// [`PreparedTriangles::clear`].
     #[inline(always)]
@@ -108,11 +116,13 @@ mod tests {
             }
             for id in [1u32, 2, 1, 65, 1, 3, 200, 2] {
                 let mut asked = false;
+                let held = table.holds(id);
                 let a = *table.get(id, || {
                     asked = true;
                     tri(id)
                 });
                 made += asked as u32;
+                assert_eq!(held, !asked, "held {id}");
                 for j in 0..40u32 {
                     let b = other.get(j, || tri(j + 7));
                     let expect = triangles_intersect(&tri(id), &tri(j + 7));

@@ -233,13 +233,37 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
         } else {
             c.tri_tri += 1;
             let [pc, pb] = prepared;
-            let ct = pc.get(p.primitive_a, || {
-                self.to_body
-                    .triangle(self.character.triangle(p.primitive_a))
-            });
             let bt = pb.get(p.primitive_b, || {
                 self.mesh.triangle(TriangleId(p.primitive_b))
             });
+            // Before the character triangle is prepared (the larger half of
+            // a test that ends early), two answers a big triangle gives
+            // from its corners alone:
+            // - the test's own plane-side exit (its corners strictly on one
+            //   side of the body triangle's plane): no contact, bit for bit
+            //   the test's answer;
+            // - not so, and every corner surely inside the big triangle's
+            //   edge planes: the triangle reaches the plane inside the big
+            //   triangle, a contact (exact; the test's answer too, up to
+            //   its snapping of pairs that touch).
+            let character_triangle = || {
+                self.to_body
+                    .triangle(self.character.triangle(p.primitive_a))
+            };
+            let ct = if pc.holds(p.primitive_a) {
+                pc.get(p.primitive_a, character_triangle)
+            } else {
+                let t = character_triangle();
+                if bt.plane_has_on_one_side(&t) {
+                    return None;
+                }
+                if let Some(prism) = body.prism_of(p.leaf_b)
+                    && prism.holds_inside(&t)
+                {
+                    return Some((p.primitive_a, p.primitive_b));
+                }
+                pc.get(p.primitive_a, || t)
+            };
             prepared_intersect(ct, bt)
         };
         hit.then_some((p.primitive_a, p.primitive_b))

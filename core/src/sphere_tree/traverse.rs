@@ -361,6 +361,24 @@ where
                             });
                             continue;
                         }
+                        // A twig (every child a leaf) lets its leaves
+                        // through too, unrefit itself.
+                        if let Some(pb) = through
+                            && let Some(leaves) = twig_leaves(a.tree(), NodeId(c))
+                        {
+                            for g in leaves {
+                                if let Some(pa) = a.tree().node(NodeId(g)).primitive() {
+                                    stats.leaf_pairs += 1;
+                                    on_leaf_pair(LeafPair {
+                                        leaf_a: NodeId(g),
+                                        leaf_b: j,
+                                        primitive_a: pa,
+                                        primitive_b: pb,
+                                    });
+                                }
+                            }
+                            continue;
+                        }
                         stats.sphere_tests += 1;
                         a.tested(NodeId(c));
                         b.tested(j);
@@ -411,6 +429,19 @@ where
         }
     }
     stats
+}
+
+/// The children of node `id` when every one of them is a leaf (a twig's
+/// leaves), or `None` (a leaf, or a node with an inner child).
+#[inline]
+fn twig_leaves(tree: &SphereTree, id: NodeId) -> Option<std::ops::Range<u32>> {
+    let n = tree.node(id);
+    let kids = n.children();
+    (!n.is_leaf()
+        && tree.nodes()[kids.start as usize..kids.end as usize]
+            .iter()
+            .all(Node::is_leaf))
+    .then_some(kids)
 }
 
 /// For the pair `(i, j)` just pushed, with sphere radii `ra`, `rb`: prefetches
