@@ -136,6 +136,13 @@ mod tests {
     use crate::geometry::closest_point::point_triangle_distance;
     use crate::geometry::{Point, Sphere, Triangle};
 
+    /// A triangle with corners in the cube of side 4 about the origin, from
+    /// `next` (uniform in `[-0.5, 0.5)`).
+    fn random_triangle(next: &mut impl FnMut() -> f32) -> Triangle {
+        let mut corner = || Point::new(4.0 * next(), 4.0 * next(), 4.0 * next());
+        Triangle::new(corner(), corner(), corner())
+    }
+
     /// A point `holds_inside` claims is inside: its distance to the
     /// triangle is its distance to the triangle's plane (its foot lies in
     /// the triangle); and a good share of random points is claimed.
@@ -145,11 +152,7 @@ mod tests {
         let mut next = move || unit() - 0.5;
         let mut claimed = 0;
         for _ in 0..20_000 {
-            let t = Triangle::new(
-                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
-                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
-                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
-            );
+            let t = random_triangle(&mut next);
             let prism = TrianglePrism::new(&t);
             let p = Point::new(3.0 * next(), 3.0 * next(), 3.0 * next());
             let p64 = p.map(|v| v as f64);
@@ -178,11 +181,7 @@ mod tests {
         let mut next = move || unit() - 0.5;
         let (mut rejected, mut reaching) = (0, 0);
         for _ in 0..20_000 {
-            let t = Triangle::new(
-                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
-                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
-                Point::new(4.0 * next(), 4.0 * next(), 4.0 * next()),
-            );
+            let t = random_triangle(&mut next);
             let prism = TrianglePrism::new(&t);
             let c = Point::new(6.0 * next(), 6.0 * next(), 6.0 * next());
             let d = point_triangle_distance(&c.map(|v| v as f64), &t);

@@ -343,41 +343,36 @@ where
                 let open_a = nb.is_leaf() || (!na.is_leaf() && sa.radius >= sb.radius);
                 let pushed_from = ws.stack.len();
                 if open_a {
-                    // A group's leaf lets `a`'s leaves through unrefit (see
-                    // `super::grouped`): no sphere, no test, no guard, and
-                    // no mark (a leaf reached again for the group by another
-                    // path meets the caller's repeat filter).
+                    // A group's leaf lets `a`'s leaves and its twigs' leaves
+                    // through unrefit (see `super::grouped`): no sphere, no
+                    // test, no guard, and no mark (a leaf reached again for
+                    // the group by another path meets the caller's repeat
+                    // filter).
                     let through = grouped.and(nb.primitive());
                     for c in na.children() {
-                        if let Some(pb) = through
-                            && let Some(pa) = a.tree().node(NodeId(c)).primitive()
-                        {
-                            stats.leaf_pairs += 1;
-                            on_leaf_pair(LeafPair {
-                                leaf_a: NodeId(c),
-                                leaf_b: j,
-                                primitive_a: pa,
-                                primitive_b: pb,
-                            });
-                            continue;
-                        }
-                        // A twig (every child a leaf) lets its leaves
-                        // through too, unrefit itself.
-                        if let Some(pb) = through
-                            && let Some(leaves) = twig_leaves(a.tree(), NodeId(c))
-                        {
-                            for g in leaves {
-                                if let Some(pa) = a.tree().node(NodeId(g)).primitive() {
-                                    stats.leaf_pairs += 1;
-                                    on_leaf_pair(LeafPair {
-                                        leaf_a: NodeId(g),
-                                        leaf_b: j,
-                                        primitive_a: pa,
-                                        primitive_b: pb,
-                                    });
+                        if let Some(pb) = through {
+                            // A leaf, or a twig's leaves (every child a
+                            // leaf), unrefit.
+                            let tree = a.tree();
+                            let nc = tree.node(NodeId(c));
+                            let leaves = match nc.primitive() {
+                                Some(_) => c..c + 1,
+                                None => twig_leaves(tree, nc).unwrap_or(0..0),
+                            };
+                            if !leaves.is_empty() {
+                                for g in leaves {
+                                    if let Some(pa) = tree.node(NodeId(g)).primitive() {
+                                        stats.leaf_pairs += 1;
+                                        on_leaf_pair(LeafPair {
+                                            leaf_a: NodeId(g),
+                                            leaf_b: j,
+                                            primitive_a: pa,
+                                            primitive_b: pb,
+                                        });
+                                    }
                                 }
+                                continue;
                             }
-                            continue;
                         }
                         stats.sphere_tests += 1;
                         a.tested(NodeId(c));
@@ -431,11 +426,10 @@ where
     stats
 }
 
-/// The children of node `id` when every one of them is a leaf (a twig's
-/// leaves), or `None` (a leaf, or a node with an inner child).
+/// The children of `n` when every one of them is a leaf (a twig's leaves),
+/// or `None` (a leaf, or a node with an inner child).
 #[inline]
-fn twig_leaves(tree: &SphereTree, id: NodeId) -> Option<std::ops::Range<u32>> {
-    let n = tree.node(id);
+fn twig_leaves(tree: &SphereTree, n: &Node) -> Option<std::ops::Range<u32>> {
     let kids = n.children();
     (!n.is_leaf()
         && tree.nodes()[kids.start as usize..kids.end as usize]
