@@ -196,9 +196,7 @@ impl<T: Scalar> Prepared<T> {
             uv2,
         }
     }
-}
 
-impl<T: Scalar> Prepared<T> {
     /// Whether `t`'s corners lie strictly on one side of this triangle's
     /// plane, decided by the very arithmetic of [`prepared_intersect`]'s
     /// plane-side exit (`t` widened, its corners' offsets from this

@@ -350,29 +350,21 @@ where
                     // filter).
                     let through = grouped.and(nb.primitive());
                     for c in na.children() {
-                        if let Some(pb) = through {
-                            // A leaf, or a twig's leaves (every child a
-                            // leaf), unrefit.
-                            let tree = a.tree();
-                            let nc = tree.node(NodeId(c));
-                            let leaves = match nc.primitive() {
-                                Some(_) => c..c + 1,
-                                None => twig_leaves(tree, nc).unwrap_or(0..0),
-                            };
-                            if !leaves.is_empty() {
-                                for g in leaves {
-                                    if let Some(pa) = tree.node(NodeId(g)).primitive() {
-                                        stats.leaf_pairs += 1;
-                                        on_leaf_pair(LeafPair {
-                                            leaf_a: NodeId(g),
-                                            leaf_b: j,
-                                            primitive_a: pa,
-                                            primitive_b: pb,
-                                        });
-                                    }
+                        if let Some(pb) = through
+                            && let Some(leaves) = leaves_let_through(a.tree(), NodeId(c))
+                        {
+                            for g in leaves {
+                                if let Some(pa) = a.tree().node(NodeId(g)).primitive() {
+                                    stats.leaf_pairs += 1;
+                                    on_leaf_pair(LeafPair {
+                                        leaf_a: NodeId(g),
+                                        leaf_b: j,
+                                        primitive_a: pa,
+                                        primitive_b: pb,
+                                    });
                                 }
-                                continue;
                             }
+                            continue;
                         }
                         stats.sphere_tests += 1;
                         a.tested(NodeId(c));
@@ -426,16 +418,19 @@ where
     stats
 }
 
-/// The children of `n` when every one of them is a leaf (a twig's leaves),
-/// or `None` (a leaf, or a node with an inner child).
+/// The leaves node `id` hands on unrefit to a group's leaf: itself if it
+/// is a leaf, its children if they all are (a twig); `None` otherwise.
 #[inline]
-fn twig_leaves(tree: &SphereTree, n: &Node) -> Option<std::ops::Range<u32>> {
+fn leaves_let_through(tree: &SphereTree, id: NodeId) -> Option<std::ops::Range<u32>> {
+    let n = tree.node(id);
+    if n.is_leaf() {
+        return Some(id.0..id.0 + 1);
+    }
     let kids = n.children();
-    (!n.is_leaf()
-        && tree.nodes()[kids.start as usize..kids.end as usize]
-            .iter()
-            .all(Node::is_leaf))
-    .then_some(kids)
+    tree.nodes()[kids.start as usize..kids.end as usize]
+        .iter()
+        .all(Node::is_leaf)
+        .then_some(kids)
 }
 
 /// For the pair `(i, j)` just pushed, with sphere radii `ra`, `rb`: prefetches
