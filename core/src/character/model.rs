@@ -55,6 +55,33 @@ impl Character {
         }
     }
 
+    /// The joint that alone moves vertex `v` under `model`, if one does:
+    /// one influence of weight exactly 1 (linear blend skinning), or the
+    /// paper's weight 1. Such a vertex is skinned by that joint's skin
+    /// matrix alone, `fl(M_j·v)` (the paper's blend at `w = 1` is `M_j`).
+    pub fn sole_joint(&self, model: SkinningModel, v: usize) -> Option<super::JointId> {
+        match model {
+            SkinningModel::Linear => {
+                let mut it = self.influences.of(v);
+                match (it.next(), it.next()) {
+                    (Some((j, 1.0)), None) => Some(j),
+                    _ => None,
+                }
+            }
+            SkinningModel::Paper => (self.paper.weight(v) == 1.0).then(|| self.paper.joint(v)),
+        }
+    }
+
+    /// The largest magnitude of a bind coordinate, 1 included (the
+    /// homogeneous coordinate): what bounds a skinned coordinate's rounding
+    /// (`sphere_tree::self_contact::RigidGaps`).
+    pub fn bind_coordinate_bound(&self) -> f32 {
+        let (lo, hi) = self.mesh.bounds();
+        [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, 1.0]
+            .iter()
+            .fold(0.0f32, |m, c| m.max(c.abs()))
+    }
+
     /// The clip called `name`, or the first clip when `name` is `None`.
     pub fn clip(&self, name: Option<&str>) -> Result<&Clip, UnknownClip> {
         let found = match name {

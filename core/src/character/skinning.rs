@@ -46,6 +46,28 @@ pub const LINEAR_ROUNDINGS: u32 = 8;
 /// the skeleton keeps every matrix affine ([`Skeleton::new`]).
 pub const PAPER_ROUNDINGS: u32 = 6;
 
+/// How far a vertex that joint matrix `m` alone skins
+/// ([`super::Character::sole_joint`]) can lie from its exact image `M·v`:
+/// `fl(M·v)` is off by at most `γ₈·Σ_k |m_ik|·c` in each coordinate (at
+/// most eight roundings on any path, either model: [`LINEAR_ROUNDINGS`]),
+/// so by `√3·γ₈·r·c`, with `r` the largest row sum of `|m|` over its three
+/// spatial rows and `c` the largest bind coordinate, 1 included
+/// ([`super::Character::bind_coordinate_bound`]). Not finite when `m` is
+/// not.
+pub fn sole_joint_rounding(m: &Matrix4<f32>, coordinate_bound: f32) -> f64 {
+    let u = f64::from(f32::EPSILON) / 2.0;
+    let gamma8 = 8.0 * u / (1.0 - 8.0 * u);
+    3f64.sqrt() * gamma8 * largest_row_sum(m) * f64::from(coordinate_bound)
+}
+
+/// The largest row sum of `|m|` over its three spatial rows: a skinned
+/// coordinate is at most this times the largest bind coordinate.
+pub fn largest_row_sum(m: &Matrix4<f32>) -> f64 {
+    (0..3)
+        .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
+        .fold(0.0f64, f64::max)
+}
+
 /// Which skinning model animates the mesh.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -20,7 +20,7 @@ type P2<T> = [T; 2];
 pub const EDGES: [(usize, usize); 3] = [(0, 1), (1, 2), (2, 0)];
 
 /// Rounding-error bound factor for plane offsets (see module docs).
-const SNAP: f64 = 16.0 * f64::EPSILON;
+pub(crate) const SNAP: f64 = 16.0 * f64::EPSILON;
 
 /// Offsets `dᵢ = n · wᵢ` of corners from the plane through `a0` with normal
 /// `n = u × v`, given `wᵢ = pᵢ - a0`; each snapped to zero within its

@@ -17,7 +17,7 @@ use super::{Sphere, Triangle};
 
 /// Relative margin on distances (rounding of `f64` products of `f32` data is
 /// below 1e-15 of the magnitudes involved).
-const MARGIN: f64 = 1e-9;
+pub(crate) const MARGIN: f64 = 1e-9;
 
 /// The three inward edge planes of a triangle, prepared once.
 ///
@@ -80,6 +80,13 @@ impl TrianglePrism {
             offsets[k] = e.dot(&p);
         }
         Self { normals, offsets }
+    }
+
+    /// The three edge planes: unit inward normals (zero for a degenerate
+    /// triangle) and offsets, the triangle's side of edge `k` being
+    /// `normals[k] · x ≥ offsets[k]`.
+    pub(crate) fn edge_planes(&self) -> (&[Vector3<f64>; 3], &[f64; 3]) {
+        (&self.normals, &self.offsets)
     }
 
     /// Whether the ball `s` may hold a point of the triangle (`false`: it

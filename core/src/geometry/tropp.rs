@@ -197,6 +197,16 @@ impl<T: Scalar> Prepared<T> {
         }
     }
 
+    /// The plane-side exit's plane: the first corner, the normal (the
+    /// edges' cross product, not made a unit vector) and the snapping scale
+    /// `|u|²·|v|²` with which [`Self::plane_has_on_one_side`] and
+    /// [`prepared_intersect`] snap an offset `d = n·(x − p₀)` to zero where
+    /// `d² ≤ (16ε)²·|u|²·|v|²·|x − p₀|²`; `None` for a zero-area triangle.
+    #[inline]
+    pub fn plane(&self) -> Option<(V3<T>, V3<T>, T)> {
+        (!self.flat).then_some((self.p[0], self.n, self.uv2))
+    }
+
     /// Whether `t`'s corners lie strictly on one side of this triangle's
     /// plane, decided by the very arithmetic of [`prepared_intersect`]'s
     /// plane-side exit (`t` widened, its corners' offsets from this

@@ -15,6 +15,9 @@ use crate::sphere_tree::{Hierarchy, NodeId, SphereTree};
 
 /// A map from world coordinates into a body's frame.
 pub trait Frame: Copy {
+    /// Whether the map is the identity (the room's frame): a triangle in
+    /// the world is the very triangle in the body's frame.
+    const IDENTITY: bool = false;
     /// A sphere of the world in the body's frame, grown to cover rounding.
     fn sphere(&self, s: &Sphere) -> Sphere;
     /// A triangle of the world in the body's frame.
@@ -26,6 +29,8 @@ pub trait Frame: Copy {
 pub struct Identity;
 
 impl Frame for Identity {
+    const IDENTITY: bool = true;
+
     #[inline(always)]
     fn sphere(&self, s: &Sphere) -> Sphere {
         *s

@@ -18,6 +18,7 @@
 //! | `prepared_triangles` | triangles prepared once for the triangle-triangle test while a narrow phase meets them again | §3 |
 //! | [`visit_log`] | which nodes of a rigid body the timed traversal tested (for recordings) | §3 |
 
+pub(crate) mod bind_planes;
 pub(crate) mod character_side;
 pub mod continuous_narrow;
 pub mod counters;

@@ -94,6 +94,9 @@ pub(crate) struct PassMarksOf {
     pub(crate) repeats: PassMarks,
     /// Per character node, the last big triangle it was descended against.
     pub(crate) groups: PassMarks,
+    /// Big triangles' planes in the bind spaces of the joints that alone
+    /// move the character triangles met with them.
+    pub(crate) bind_planes: super::bind_planes::BindPlanes,
 }
 
 impl PassMarksOf {

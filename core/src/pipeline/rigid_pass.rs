@@ -110,6 +110,40 @@ impl<F: Frame, L: VisitLog> RigidPass<'_, F, L> {
     fn prefetches(&self) -> bool {
         self.method.tests_each_pair_once()
     }
+
+    /// `p`'s answer from its character triangle's bind corners, when one
+    /// joint alone moves them ([`super::bind_planes`]): `Some(false)` apart,
+    /// `Some(true)` a contact, both the narrow phase's answers, found
+    /// without skinning a corner; `None` when the corners must be skinned.
+    /// Only in the room's frame (a moving body's frame would add its map's
+    /// rounding).
+    #[inline]
+    fn answer_in_bind_space(&mut self, p: &LeafPair) -> Option<bool> {
+        if !F::IDENTITY {
+            return None;
+        }
+        let c = &self.character;
+        let joint = c.tree.sole_joint[p.primitive_a as usize];
+        if joint == crate::sphere_tree::self_contact::MIXED {
+            return None;
+        }
+        let bind = c.character.mesh.positions();
+        let [i, j, k] = c.character.mesh.indices()[p.primitive_a as usize];
+        let (mesh, body) = (self.mesh, self.body);
+        self.marks.bind_planes.answer(
+            p.primitive_b,
+            || {
+                (
+                    mesh.triangle(TriangleId(p.primitive_b)),
+                    body.prism_of(p.leaf_b),
+                )
+            },
+            joint,
+            &c.pose.skin[joint as usize],
+            c.tree.bind_coordinate_bound,
+            [&bind[i as usize], &bind[j as usize], &bind[k as usize]],
+        )
+    }
 }
 
 impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
@@ -174,8 +208,13 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
     /// a triangle, or every vertex when stamp checks would cost more (three
     /// per triangle test, about a quarter of skinning a vertex): when every
     /// leaf pair is a triangle test and there are more than 4/3 as many as
-    /// vertices (the original method: 531,732 tests a frame).
+    /// vertices (the original method: 531,732 tests a frame). The methods
+    /// that test each pair once skin nothing here but in that case: each
+    /// triangle is skinned as it is first tested, unless its bind corners
+    /// answer first ([`super::bind_planes`]).
     fn prepare(&mut self, leaf_pairs: &[LeafPair]) {
+        // The planes kept belong to another pass (another character or pose).
+        self.marks.bind_planes.begin_pass();
         let all_tri_tri = self.method.big_leaf_test() == LeafTest::TriTri;
         let vertices = self.character.character.mesh.positions().len();
         if self.skin_all_when_cheaper && all_tri_tri && 3 * leaf_pairs.len() > 4 * vertices {
@@ -183,11 +222,10 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
             c.skin.skin_all(c.pose, c.character, c.model);
             return;
         }
-        let ahead = self.prefetches();
-        for (k, p) in leaf_pairs.iter().enumerate() {
-            if ahead {
-                self.prefetch_skinning(leaf_pairs, k);
-            }
+        if self.method.tests_each_pair_once() {
+            return;
+        }
+        for p in leaf_pairs {
             if !self.body.answers_by_plane(self.method, p.leaf_b) {
                 self.character.ensure_triangle(p.primitive_a);
             }
@@ -209,6 +247,7 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
         c: &mut FrameCounters,
     ) -> Option<(u32, u32)> {
         if self.prefetches() {
+            self.prefetch_skinning(leaf_pairs, k);
             self.prefetch_narrow(leaf_pairs, k);
         }
         let p = leaf_pairs[k];
@@ -232,6 +271,15 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
             }
         } else {
             c.tri_tri += 1;
+            // The methods that test each pair once skin a character
+            // triangle here, as it is first tested, unless its bind
+            // corners answer (one joint moves it): then it is not skinned.
+            if method.tests_each_pair_once() && !prepared[0].holds(p.primitive_a) {
+                if let Some(hit) = self.answer_in_bind_space(&p) {
+                    return hit.then_some((p.primitive_a, p.primitive_b));
+                }
+                self.character.ensure_triangle(p.primitive_a);
+            }
             let [pc, pb] = prepared;
             let bt = pb.get(p.primitive_b, || {
                 self.mesh.triangle(TriangleId(p.primitive_b))

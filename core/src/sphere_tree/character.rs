@@ -54,6 +54,13 @@ pub struct CharacterTree {
     pub triangle_joint: Vec<JointId>,
     /// Triangles in the tree (after de-duplication, if any).
     pub triangles: Vec<TriangleId>,
+    /// Per mesh triangle: the joint that alone moves its three corners
+    /// under [`Self::model`] ([`Character::sole_joint`]), or
+    /// [`super::self_contact::MIXED`].
+    pub sole_joint: Vec<u16>,
+    /// [`Character::bind_coordinate_bound`], which bounds a skinned
+    /// corner's rounding.
+    pub bind_coordinate_bound: f32,
 }
 
 impl CharacterTree {
@@ -138,8 +145,33 @@ impl CharacterTree {
             extremities,
             triangle_joint,
             triangles,
+            sole_joint: sole_joints(character, model),
+            bind_coordinate_bound: character.bind_coordinate_bound(),
         }
     }
+}
+
+/// Per mesh triangle, the joint that alone moves its corners under `model`,
+/// or [`super::self_contact::MIXED`].
+pub fn sole_joints(character: &Character, model: SkinningModel) -> Vec<u16> {
+    let joint = |v: u32| {
+        character
+            .sole_joint(model, v as usize)
+            .map_or(super::self_contact::MIXED, |j| j.0)
+    };
+    character
+        .mesh
+        .indices()
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(joint);
+            if a == b && b == c {
+                a
+            } else {
+                super::self_contact::MIXED
+            }
+        })
+        .collect()
 }
 
 /// The trunk and extremities of a skeleton, given triangles owned per joint.

@@ -26,7 +26,8 @@
 
 use nalgebra::Matrix4;
 
-use crate::character::{Character, SkinningModel};
+use crate::character::Character;
+use crate::character::skinning::{largest_row_sum, sole_joint_rounding};
 use crate::geometry::Sphere;
 use crate::geometry::closest_point::triangle_triangle_distance;
 use crate::mesh::TriangleId;
@@ -83,29 +84,7 @@ impl SelfContactData {
             .iter()
             .map(|t| t.map(|v| weld[v as usize]))
             .collect();
-        let vertex_joint = |v: u32| -> u16 {
-            let v = v as usize;
-            match tree.model {
-                SkinningModel::Linear => {
-                    let mut it = character.influences.of(v);
-                    match (it.next(), it.next()) {
-                        (Some((j, 1.0)), None) => j.0,
-                        _ => MIXED,
-                    }
-                }
-                SkinningModel::Paper => {
-                    if character.paper.weight(v) == 1.0 {
-                        character.paper.joint(v).0
-                    } else {
-                        MIXED
-                    }
-                }
-            }
-        };
-        let triangle_joint = |t: u32| -> u16 {
-            let [a, b, c] = mesh.indices()[t as usize].map(vertex_joint);
-            if a == b && b == c { a } else { MIXED }
-        };
+        let triangle_joint = |t: u32| -> u16 { tree.sole_joint[t as usize] };
         let nodes = tree.tree.nodes();
         let mut node_joint = vec![MIXED; nodes.len()];
         // Children after parents: a reverse sweep meets children first.
@@ -119,10 +98,7 @@ impl SelfContactData {
                 }
             }
         }
-        let (lo, hi) = mesh.bounds();
-        let coordinate_bound = [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z, 1.0]
-            .iter()
-            .fold(0.0f32, |m, c| m.max(c.abs()));
+        let coordinate_bound = character.bind_coordinate_bound();
         let cap = REST_GAP_REACH * mesh.size().max(f32::MIN_POSITIVE);
 
         let mut gap_across = vec![cap; nodes.len()];
@@ -281,23 +257,9 @@ impl Hierarchy for Widened<'_> {
 /// skins (bind coordinates at most `coordinate_bound`; see
 /// [`RigidGaps::update`]).
 fn joint_bounds(m: &Matrix4<f32>, coordinate_bound: f32) -> (f64, f64) {
-    let u = f64::from(f32::EPSILON) / 2.0;
-    let gamma8 = 8.0 * u / (1.0 - 8.0 * u);
     let a = m.fixed_view::<3, 3>(0, 0).into_owned().cast::<f64>();
-    let rows = largest_row_sum(m);
     let sigma_min = 2.0 * a.determinant().abs() / a.norm_squared();
-    (
-        sigma_min,
-        3f64.sqrt() * gamma8 * rows * f64::from(coordinate_bound),
-    )
-}
-
-/// The largest row sum of `|m|` over its three spatial rows: a skinned
-/// coordinate is at most this times the largest bind coordinate.
-fn largest_row_sum(m: &Matrix4<f32>) -> f64 {
-    (0..3)
-        .map(|i| (0..4).map(|k| f64::from(m[(i, k)]).abs()).sum::<f64>())
-        .fold(0.0f64, f64::max)
+    (sigma_min, sole_joint_rounding(m, coordinate_bound))
 }
 
 /// The least rest gap a pair must have to stay farther apart than `slack`
