@@ -84,13 +84,12 @@ impl SelfContactData {
             .iter()
             .map(|t| t.map(|v| weld[v as usize]))
             .collect();
-        let triangle_joint = |t: u32| -> u16 { tree.sole_joint[t as usize] };
         let nodes = tree.tree.nodes();
         let mut node_joint = vec![MIXED; nodes.len()];
         // Children after parents: a reverse sweep meets children first.
         for i in (0..nodes.len()).rev() {
             node_joint[i] = match nodes[i].primitive() {
-                Some(t) => triangle_joint(t),
+                Some(t) => tree.sole_joint[t as usize],
                 None => {
                     let mut js = nodes[i].children().map(|c| node_joint[c as usize]);
                     let first = js.next().unwrap_or(MIXED);
@@ -98,7 +97,7 @@ impl SelfContactData {
                 }
             }
         }
-        let coordinate_bound = character.bind_coordinate_bound();
+        let coordinate_bound = tree.bind_coordinate_bound;
         let cap = REST_GAP_REACH * mesh.size().max(f32::MIN_POSITIVE);
 
         let mut gap_across = vec![cap; nodes.len()];
