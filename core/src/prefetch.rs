@@ -4,9 +4,11 @@
 //! (skinning, rendering, another library, the other methods of a `bench`
 //! run) has evicted it, and each node, rule, mark or vertex a frame reads
 //! first comes from memory. Where the next reads are known a few steps
-//! ahead (the children of a pair just pushed, the leaf pairs after the one
-//! being tested), asking for them early lets their loads overlap
-//! (`docs/performance-journal.md`, "Cold caches and a wider character tree").
+//! ahead (the children of a pair just pushed), asking for them early lets
+//! their loads overlap (`docs/performance-journal.md`, "Cold caches and a
+//! wider character tree"; the room pass's hints for the leaf pairs ahead
+//! were taken out once most of its pairs were answered from bind corners:
+//! "Room triangles answered from bind corners").
 
 /// Starts loading the cache line of `p` (a hint; nothing on other
 /// architectures).

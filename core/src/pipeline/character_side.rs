@@ -69,21 +69,6 @@ impl CharacterSide<'_> {
         }
     }
 
-    /// Starts loading what [`Self::ensure_triangle`] will read for
-    /// triangle `t` (its corners' bind data and stamps; a hint).
-    #[inline(always)]
-    pub(crate) fn prefetch_triangle(&self, t: u32) {
-        for v in self.character.mesh.indices()[t as usize] {
-            self.skin.prefetch(self.character, self.model, v);
-        }
-    }
-
-    /// Starts loading triangle `t`'s corner indices (a hint).
-    #[inline(always)]
-    pub(crate) fn prefetch_indices(&self, t: u32) {
-        crate::prefetch::prefetch_at(self.character.mesh.indices(), t as usize);
-    }
-
     /// Triangle `t` as skinned this frame ([`Self::ensure_triangle`] first).
     #[inline]
     pub(crate) fn triangle(&self, t: u32) -> Triangle {

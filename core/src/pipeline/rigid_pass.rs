@@ -6,7 +6,6 @@
 
 use crate::geometry::tri_tri::prepared_intersect;
 use crate::mesh::{TriMesh, TriangleId};
-use crate::prefetch::prefetch_at;
 use crate::sphere_tree::traverse::LeafPair;
 use crate::sphere_tree::{
     Hierarchy, NodeId, PassMarks, SphereTree, Workspace, traverse, traverse_grouped,
@@ -20,11 +19,6 @@ use super::pass::{Pass, PassMarksOf, Traversed};
 use super::prepared_triangles::PreparedTriangles;
 use super::visit_log::VisitLog;
 use super::{EnvironmentTree, LeafTest, Method};
-
-/// How many leaf pairs ahead of the one being skinned or tested the
-/// vertices and triangles it will read are prefetched (twice as far, the
-/// triangle's indices that name them).
-const LEAF_PAIRS_AHEAD: usize = 4;
 
 /// A character against a rigid body whose hierarchy `body` and mesh `mesh`
 /// are in the body's frame; `to_body` maps the world into it.
@@ -72,45 +66,6 @@ impl<L: VisitLog> Hierarchy for LoggedTree<'_, L> {
 }
 
 impl<F: Frame, L: VisitLog> RigidPass<'_, F, L> {
-    /// While skinning for leaf pair `k`: starts loading the character
-    /// triangle of pair `k + 2·AHEAD` and the vertices of pair `k + AHEAD`'s
-    /// (whose triangle has arrived by then); see [`crate::prefetch`].
-    #[inline(always)]
-    fn prefetch_skinning(&self, leaf_pairs: &[LeafPair], k: usize) {
-        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
-            self.character.prefetch_indices(q.primitive_a);
-        }
-        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
-            self.character.prefetch_triangle(q.primitive_a);
-        }
-    }
-
-    /// While testing leaf pair `k`: starts loading the repeat mark and the
-    /// body's triangle of pair `k + 2·AHEAD`, and that triangle's corners
-    /// for pair `k + AHEAD`.
-    #[inline(always)]
-    fn prefetch_narrow(&self, leaf_pairs: &[LeafPair], k: usize) {
-        let mesh = self.mesh;
-        if let Some(q) = leaf_pairs.get(k + 2 * LEAF_PAIRS_AHEAD) {
-            self.marks.repeats.prefetch(q.primitive_a);
-            prefetch_at(mesh.indices(), q.primitive_b as usize);
-        }
-        if let Some(q) = leaf_pairs.get(k + LEAF_PAIRS_AHEAD) {
-            for v in mesh.indices()[q.primitive_b as usize] {
-                prefetch_at(mesh.positions(), v as usize);
-            }
-        }
-    }
-
-    /// Prefetching ahead pays where leaf pairs are few and each reads new
-    /// memory: the methods that test each pair once. The others meet the
-    /// same triangles over and over (thousands of pairs), which stay
-    /// cached, and the hints would only cost (docs/performance-journal.md, "Cold
-    /// caches").
-    fn prefetches(&self) -> bool {
-        self.method.tests_each_pair_once()
-    }
-
     /// `p`'s answer from its character triangle's bind corners, when one
     /// joint alone moves them ([`super::bind_planes`]): `Some(false)` apart,
     /// `Some(true)` a contact, both the narrow phase's answers, found
@@ -246,10 +201,6 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
         prepared: &mut [PreparedTriangles; 2],
         c: &mut FrameCounters,
     ) -> Option<(u32, u32)> {
-        if self.prefetches() {
-            self.prefetch_skinning(leaf_pairs, k);
-            self.prefetch_narrow(leaf_pairs, k);
-        }
         let p = leaf_pairs[k];
         let (body, method) = (self.body, self.method);
         if method.tests_each_pair_once()
