@@ -200,13 +200,6 @@ impl PoseBuffers {
         self.skin_pose().skin_all_into(character, model, out);
     }
 
-    /// Starts loading what [`PoseBuffers::skin_vertex`] reads of vertex
-    /// `v` (its bind position, joints and weights; a hint).
-    #[inline(always)]
-    pub fn prefetch_vertex(character: &Character, model: SkinningModel, v: usize) {
-        SkinPose::prefetch_vertex(character, model, v);
-    }
-
     /// Vertex `v` skinned with `model` from the current skin matrices (the
     /// same arithmetic as [`PoseBuffers::skin_all`], bit for bit).
     #[inline]
@@ -253,17 +246,6 @@ impl SkinPose<'_> {
     /// Every vertex skinned with `model` into `out` (one point per vertex).
     pub fn skin_all_into(&self, character: &Character, model: SkinningModel, out: &mut [Point]) {
         skin_every_vertex(character, model, self.skin, self.base, out);
-    }
-
-    /// Starts loading what [`SkinPose::skin_vertex`] reads of vertex `v`
-    /// (its bind position, joints and weights; a hint).
-    #[inline(always)]
-    pub fn prefetch_vertex(character: &Character, model: SkinningModel, v: usize) {
-        crate::prefetch::prefetch_at(character.mesh.positions(), v);
-        match model {
-            SkinningModel::Linear => character.influences.prefetch(v),
-            SkinningModel::Paper => character.paper.prefetch(v),
-        }
     }
 
     /// Vertex `v` skinned with `model` (the same arithmetic as

@@ -68,16 +68,6 @@ impl OnDemandSkin {
         }
     }
 
-    /// Starts loading what [`OnDemandSkin::ensure`] reads and writes for
-    /// vertex `v` (a hint, for a vertex asked for a few steps later).
-    #[inline(always)]
-    pub fn prefetch(&self, character: &Character, model: SkinningModel, v: u32) {
-        let i = v as usize;
-        crate::prefetch::prefetch_at(&self.stamp, i);
-        crate::prefetch::prefetch_at(&self.positions, i);
-        SkinPose::prefetch_vertex(character, model, i);
-    }
-
     /// Skins every vertex for this frame's pose ([`SkinPose::skin_all_into`]'s
     /// arithmetic, which is [`OnDemandSkin::ensure`]'s).
     pub fn skin_all(&mut self, pose: SkinPose<'_>, character: &Character, model: SkinningModel) {

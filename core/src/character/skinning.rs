@@ -246,13 +246,6 @@ impl Influences {
         }
     }
 
-    /// Starts loading vertex `v`'s joints and weights (a hint).
-    #[inline(always)]
-    pub fn prefetch(&self, v: usize) {
-        crate::prefetch::prefetch_at(&self.joints, v);
-        crate::prefetch::prefetch_at(&self.weights, v);
-    }
-
     /// Linear blend skinning of vertex `v` at bind-space position `p`: its
     /// posed position under the skin matrices `skin` (one per joint).
     #[inline]
@@ -385,13 +378,6 @@ impl PaperBinding {
         w: f32,
     ) -> Matrix4<f32> {
         Self::parent_matrix(skeleton, skin, base, a) * (1.0 - w) + skin[a.index()] * w
-    }
-
-    /// Starts loading vertex `v`'s joint and weight (a hint).
-    #[inline(always)]
-    pub fn prefetch(&self, v: usize) {
-        crate::prefetch::prefetch_at(&self.joint, v);
-        crate::prefetch::prefetch_at(&self.weight, v);
     }
 
     /// Skins vertex `v` (bind position `p`) with the paper's model; `base` is
