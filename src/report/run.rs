@@ -110,6 +110,7 @@ pub struct FrameRecord {
     pub tri_tri: u64,
     pub plane_sphere: u64,
     pub sphere_box: u64,
+    pub box_box: u64,
     pub operations: u64,
     pub refits: u64,
     pub skinned_vertices: u64,
@@ -142,6 +143,7 @@ pub struct KindRecord {
     pub tri_tri: u64,
     pub plane_sphere: u64,
     pub sphere_box: u64,
+    pub box_box: u64,
     pub operations: u64,
     pub pairs: u64,
 }
@@ -153,6 +155,7 @@ impl KindRecord {
             tri_tri: c.tri_tri,
             plane_sphere: c.plane_sphere,
             sphere_box: c.sphere_box,
+            box_box: c.box_box,
             operations: c.operations(),
             pairs: c.pairs,
         }
@@ -224,6 +227,7 @@ impl FrameRecord {
             tri_tri: c.tri_tri,
             plane_sphere: c.plane_sphere,
             sphere_box: c.sphere_box,
+            box_box: c.box_box,
             operations: c.operations(),
             refits: c.refits,
             skinned_vertices: c.skinned_vertices,
@@ -305,6 +309,8 @@ pub struct Summary {
     pub plane_sphere: Stat,
     /// Sphere-box tests (ours; the room's node boxes).
     pub sphere_box: Stat,
+    /// Box-box tests (ours; two characters' posed node boxes).
+    pub box_box: Stat,
     pub operations: Stat,
     pub refits: Stat,
     pub time_ms: Stat,
@@ -373,6 +379,7 @@ pub struct SummaryBuilder {
     tri_tri: StatSum,
     plane_sphere: StatSum,
     sphere_box: StatSum,
+    box_box: StatSum,
     operations: StatSum,
     refits: StatSum,
     time_ms: StatSum,
@@ -399,6 +406,7 @@ impl SummaryBuilder {
             tri_tri: StatSum::default(),
             plane_sphere: StatSum::default(),
             sphere_box: StatSum::default(),
+            box_box: StatSum::default(),
             operations: StatSum::default(),
             refits: StatSum::default(),
             time_ms: StatSum::default(),
@@ -420,6 +428,7 @@ impl SummaryBuilder {
         self.tri_tri.add(x.tri_tri as f64);
         self.plane_sphere.add(x.plane_sphere as f64);
         self.sphere_box.add(x.sphere_box as f64);
+        self.box_box.add(x.box_box as f64);
         self.operations.add(x.operations as f64);
         self.refits.add(x.refits as f64);
         self.time_ms.add(x.time_ms);
@@ -479,6 +488,7 @@ impl SummaryBuilder {
             tri_tri: self.tri_tri.stat(),
             plane_sphere: self.plane_sphere.stat(),
             sphere_box: self.sphere_box.stat(),
+            box_box: self.box_box.stat(),
             operations: self.operations.stat(),
             refits: self.refits.stat(),
             time_ms: self.time_ms.stat(),
@@ -529,6 +539,7 @@ impl SummaryTable<'_> {
             ("Tri-Tri tests (max / mean)", col(&|m| mm(m.tri_tri))),
             ("Pla-Sph tests (max / mean)", col(&|m| mm(m.plane_sphere))),
             ("Sph-Box tests (max / mean)", col(&|m| mm(m.sphere_box))),
+            ("Box-Box tests (max / mean)", col(&|m| mm(m.box_box))),
             ("Operations (max / mean)", col(&|m| mm(m.operations))),
             ("Refits (max / mean)", col(&|m| mm(m.refits))),
             (

@@ -6,6 +6,7 @@
 //! | [`triangle`] | [`Triangle`] | |
 //! | [`plane_sphere`] | Algorithm 1, the plane-sphere test (30 operations) | §5 |
 //! | [`tri_tri`] | the narrow phase's triangle-triangle test: the faster of the two below (96 operations) | §3 narrow phase |
+//! | [`leveled_box`] | a box kept in six bytes around a moving node's sphere, rebuilt each frame and tested against another (ours; a character's posed node boxes) | |
 //! | [`sphere_box`] | a sphere against an axis-aligned box kept in six bytes around a static node's sphere (ours; the room's node boxes) | |
 //! | [`triangle_prism`] | whether a sphere can reach a triangle, by its three edge planes (before the triangle-triangle test of a big triangle; ours) | |
 //! | [`tropp`] | Tropp, Tal and Shimshoni's triangle-triangle test | §3 narrow phase |
@@ -48,6 +49,7 @@ pub mod edge_crossing;
 pub mod enclosing;
 pub mod exact;
 pub mod intersection_segment;
+pub mod leveled_box;
 pub mod plane_sphere;
 pub mod query_shapes;
 pub mod scalar;
@@ -100,4 +102,7 @@ pub mod ops {
     /// A sphere against a room node's box (ours; not in the paper's model:
     /// the operations it pays, counted in [`super::sphere_box`]'s tests).
     pub const SPHERE_BOX: u64 = super::sphere_box::SPHERE_BOX;
+    /// Two posed character node boxes (ours; not in the paper's model:
+    /// [`super::leveled_box::BOX_BOX`]).
+    pub const BOX_BOX: u64 = super::leveled_box::BOX_BOX;
 }

@@ -5,6 +5,7 @@
 use nalgebra::Matrix4;
 
 use crate::character::{Character, OnDemandSkin, SkinPose, SkinningModel};
+use crate::geometry::leveled_box::LeveledBox;
 use crate::geometry::{Sphere, Triangle};
 use crate::mesh::TriangleId;
 use crate::sphere_tree::character::CharacterTree;
@@ -166,5 +167,17 @@ impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
     #[inline]
     fn refit_ticks(&self) -> u64 {
         self.ticks
+    }
+
+    const BOXES: bool = true;
+
+    #[inline]
+    fn node_box(&mut self, id: NodeId) -> LeveledBox {
+        self.refitter.node_box(id)
+    }
+
+    #[inline]
+    fn prefetch_box(&self, id: NodeId) {
+        self.refitter.prefetch_box(id);
     }
 }

@@ -18,6 +18,10 @@ pub struct FrameCounters {
     /// Sphere-box tests against a room's node boxes (34 operations each;
     /// ours, [`crate::geometry::sphere_box`]).
     pub sphere_box: u64,
+    /// Box-box tests between two characters' posed node boxes, after their
+    /// spheres met (30 operations each; ours,
+    /// [`crate::geometry::leveled_box`]).
+    pub box_box: u64,
     /// Character spheres refit.
     pub refits: u64,
     /// Distinct colliding pairs.
@@ -55,7 +59,7 @@ impl FrameTime {
 
 impl FrameCounters {
     /// Basic operations in the paper's model: `10·SS + 96·TT + 30·PS` (§6),
-    /// plus our sphere-box tests' `34·SB`.
+    /// plus our sphere-box tests' `34·SB` and box-box tests' `30·BB`.
     ///
     /// ```
     /// use cornertree::pipeline::FrameCounters;
@@ -68,6 +72,7 @@ impl FrameCounters {
             + ops::TRI_TRI * self.tri_tri
             + ops::PLANE_SPHERE * self.plane_sphere
             + ops::SPHERE_BOX * self.sphere_box
+            + ops::BOX_BOX * self.box_box
     }
 
     /// Adds `b`'s tests, pairs, refits, skinned vertices and times.
@@ -76,6 +81,7 @@ impl FrameCounters {
         self.tri_tri += b.tri_tri;
         self.plane_sphere += b.plane_sphere;
         self.sphere_box += b.sphere_box;
+        self.box_box += b.box_box;
         self.refits += b.refits;
         self.pairs += b.pairs;
         self.skinned_vertices += b.skinned_vertices;

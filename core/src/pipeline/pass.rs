@@ -194,6 +194,7 @@ pub(crate) fn run<P: Pass>(
     c.sphere_sphere = tr.stats.sphere_tests + tr.guard_sphere_tests;
     c.plane_sphere = tr.plane_tests;
     c.sphere_box = tr.box_tests;
+    c.box_box = tr.stats.box_tests;
     c.tri_tri = tr.leaf_tests;
 
     let t0 = now();

@@ -114,6 +114,27 @@
 //! from 1.6–2.2 to 1.0–1.6 times the minimal sphere of their posed
 //! vertices (docs/performance-journal.md, "Blended balls").
 //!
+//! **Boxes** (the ball rules; ours). Two characters' spheres meet far more
+//! often than their surfaces come close: on the crowd's brushing walkers
+//! the refit spheres are within 1–3% of the smallest radius about their
+//! centres that holds the posed vertices (every depth), yet the exact posed
+//! boxes of the same nodes would drop two thirds of the node pairs whose
+//! spheres meet (docs/performance-journal.md, "Posed node boxes"). Every
+//! node also keeps, per slot joint, the box of the bind vertices that joint
+//! moves (`f32` corners, exact). A skinned vertex `Σ_j w_j·M_j·v` is a
+//! convex combination of points `M_j·v`, each in the box `M_j·c ± |A_j|·h`
+//! (centre `c`, half-extent `h` of joint `j`'s rest box), so it lies in the
+//! union's box; weights summing to `s ≠ 1` and rounding move it by at most
+//! `κ·ρ` as above, by which every face is widened (plus `F64_SLACK` of the
+//! magnitudes, for the `f64` evaluation). That box, clipped to the cube of
+//! the node's sphere (which holds the vertices), is kept in six bytes as
+//! levels of that cube ([`LeveledBox`], built and tested with the same
+//! `f32` arithmetic). It is built when a traversal between two characters
+//! first asks for it after the node's refit, for inner nodes only (leaves
+//! go to their triangle's own test; building their boxes cost more than it
+//! saved), and a node pair whose spheres meet is dropped when their boxes
+//! do not.
+//!
 //! On demand: a node is refit the first time a traversal asks for it in a frame
 //! (a frame stamp per node). [`Refitter::refit_all`] refits everything.
 //! Ahead (opt-in, [`RefitState::set_refit_ahead`]): the nodes asked for last
@@ -124,12 +145,13 @@ use nalgebra::{Matrix3, Matrix4, Vector3};
 
 use crate::character::Skeleton;
 use crate::geometry::enclosing::round_up;
+use crate::geometry::leveled_box::LeveledBox;
 use crate::geometry::{Point, Sphere, Vector};
 use crate::prefetch::prefetch_at;
 
 use super::character::CharacterTree;
 use super::node::{NodeId, SphereTree};
-use super::refit_rules::{BASE, F64_SLACK, Rule};
+use super::refit_rules::{BASE, F64_SLACK, JointBox, Rule};
 pub use super::refit_rules::{
     MAX_BLENDED_CORNERS, MAX_POLYTOPE_JOINTS, RefitData, RefitRule, WeightSummary,
 };
@@ -228,6 +250,9 @@ pub struct RefitState {
     slot_radii: Vec<f64>,
     /// Corner balls' radii of the node being refit (blended balls).
     corner_radii: Vec<f64>,
+    /// This frame's box of each node refit by a ball rule, in levels
+    /// around its sphere (valid with the sphere; empty for the corner rule).
+    pub(super) boxes: Vec<LeveledBox>,
 }
 
 impl RefitState {
@@ -238,6 +263,11 @@ impl RefitState {
         Self {
             spheres: tree.tree.nodes().iter().map(|n| n.sphere).collect(),
             stamp: vec![0; tree.tree.len()],
+            boxes: if tree.refit.node_boxes.is_empty() {
+                Vec::new()
+            } else {
+                vec![LeveledBox::UNKNOWN; tree.tree.len()]
+            },
             frame: 0,
             writes: 0,
             ahead: false,
@@ -310,8 +340,9 @@ impl RefitState {
         self.asked.clear();
         self.asked_before.clear();
         if on {
-            self.asked.reserve_exact(self.stamp.len());
-            self.asked_before.reserve_exact(self.stamp.len());
+            let room = ahead_log_room(self.stamp.len());
+            self.asked.reserve_exact(room);
+            self.asked_before.reserve_exact(room);
         }
     }
 
@@ -359,11 +390,22 @@ impl RefitState {
     #[inline]
     fn log_asked(&mut self, i: usize) {
         // Never grows: each node is logged at most once a frame (when its
-        // stamp becomes `frame`), and the log has room for every node.
+        // stamp becomes `frame`), up to the log's room
+        // ([`ahead_log_room`]); a node asked for beyond it is refit on
+        // demand next frame, as without refit ahead.
         if self.ahead && self.logging && self.asked.len() < self.asked.capacity() {
             self.asked.push(i as u32);
         }
     }
+}
+
+/// Room in each refit-ahead log for a tree of `nodes` nodes: an eighth of
+/// them (at least 1,024). A frame asks for a small part of a tree (that is
+/// the point of refitting on demand: the crowd's brushing walkers about 250
+/// nodes of 30,000 each); room for every node cost 240 KB an instance of a
+/// 10,000-vertex humanoid, the room its posed node boxes take instead.
+pub(super) fn ahead_log_room(nodes: usize) -> usize {
+    (nodes / 8).max(1024).min(nodes)
 }
 
 /// The bit of a stamp saying "refit ahead, not asked for yet".
@@ -677,6 +719,12 @@ impl Refitter<'_> {
                 ball_sphere(data, center, hold, n, reach)
             }
         };
+        // An inner node's box, when first asked for ([`Refitter::node_box`]).
+        if !rest.is_leaf()
+            && let Some(b) = self.state.boxes.get_mut(id.index())
+        {
+            *b = LeveledBox::UNKNOWN;
+        }
         // Field by field: a whole-sphere copy from a temporary stalled on
         // store forwarding.
         let slot = &mut self.state.spheres[id.index()];
@@ -690,6 +738,75 @@ impl Refitter<'_> {
         Sphere::new(center, radius)
     }
 
+    /// Node `id`'s box this frame, in levels around its sphere, built on
+    /// the first request after its refit (ask after its sphere). The whole
+    /// cube for a leaf (its triangle's own test follows; boxes on leaves
+    /// cost more than they saved, module doc "Boxes") and where the rule
+    /// keeps no boxes.
+    #[inline]
+    pub fn node_box(&mut self, id: NodeId) -> LeveledBox {
+        let i = id.index();
+        if self.tree.tree.node(id).is_leaf() {
+            return LeveledBox::CUBE;
+        }
+        match self.state.boxes.get(i) {
+            None => LeveledBox::CUBE,
+            Some(&b) if b != LeveledBox::UNKNOWN => b,
+            Some(_) => {
+                let b = self.posed_box(id, &self.state.spheres[i]);
+                self.state.boxes[i] = b;
+                b
+            }
+        }
+    }
+
+    /// Node `id`'s box this frame (a ball rule's node), in levels around
+    /// `sphere`, its sphere this frame (module doc, "Boxes"): each rest box
+    /// `lo..=hi` of a slot joint moved by the joint's `f64` rows, `M·c ±
+    /// |A|·h` about its centre `c` and half-extent `h` (exact from the `f32`
+    /// corners), their union widened on every side by `κ·ρ` and a relative
+    /// `F64_SLACK`, then clipped to the cube around `sphere` and rounded
+    /// outward to its levels.
+    fn posed_box(&self, id: NodeId, sphere: &Sphere) -> LeveledBox {
+        let data = &self.tree.refit;
+        let i = id.index();
+        let first = &data.node_boxes[i];
+        let more = &data.more_boxes[first.start as usize..][..first.more as usize];
+        let first = JointBox {
+            lo: first.lo,
+            hi: first.hi,
+            joint: first.joint,
+        };
+        let (mut lo, mut hi) = (V64::repeat(f64::MAX), V64::repeat(f64::MIN));
+        let mut largest = JointNorms::ZERO;
+        for b in std::iter::once(&first).chain(more) {
+            let (m, n) = self.slot_rows(b.joint);
+            let (l, h) = (widen(&b.lo), widen(&b.hi));
+            let (c, half) = ((l + h) * 0.5, (h - l) * 0.5);
+            let q = apply_rows(m, &c);
+            let e = V64::new(
+                m[0].abs() * half.x + m[1].abs() * half.y + m[2].abs() * half.z,
+                m[4].abs() * half.x + m[5].abs() * half.y + m[6].abs() * half.z,
+                m[8].abs() * half.x + m[9].abs() * half.y + m[10].abs() * half.z,
+            );
+            lo = lo.inf(&(q - e));
+            hi = hi.sup(&(q + e));
+            largest = largest.max(n);
+        }
+        let reach = match data.rules[i] {
+            Rule::JointBalls { reach, .. }
+            | Rule::BlendedBalls { reach, .. }
+            | Rule::OneBall { reach, .. } => reach,
+            _ => return LeveledBox::CUBE,
+        };
+        let rho = largest.frobenius * reach as f64 + largest.translation;
+        let far = lo.abs().max().max(hi.abs().max());
+        let pad = data.rounding * rho * (1.0 + F64_SLACK) + F64_SLACK * (far + rho);
+        let lo = lo.add_scalar(-pad);
+        let hi = hi.add_scalar(pad);
+        LeveledBox::enclosing([lo.x, lo.y, lo.z], [hi.x, hi.y, hi.z], sphere)
+    }
+
     /// Starts loading what asking for node `id`'s sphere reads: its stamp
     /// and sphere, its rest node and its rule (a hint; see
     /// `crate::prefetch`).
@@ -700,6 +817,13 @@ impl Refitter<'_> {
         prefetch_at(&self.state.spheres, i);
         prefetch_at(self.tree.tree.nodes(), i);
         prefetch_at(&self.tree.refit.rules, i);
+    }
+
+    /// Starts loading what building node `id`'s box reads first: its rest
+    /// boxes (a hint; see [`Refitter::node_box`]).
+    #[inline(always)]
+    pub fn prefetch_box(&self, id: NodeId) {
+        prefetch_at(&self.tree.refit.node_boxes, id.index());
     }
 
     /// Starts loading node `id`'s rest balls, if its rule keeps them apart
@@ -796,9 +920,10 @@ impl Hierarchy for OnDemand<'_> {
 mod tests {
     use nalgebra::{Matrix3, Matrix4, Rotation3, Vector3};
 
-    use super::{RefitRule, RefitState, Refitter, stretch};
+    use super::{NodeId, RefitRule, RefitState, Refitter, stretch};
     use crate::character::{Character, Influences, JointId, PoseBuffers, SkinningModel};
     use crate::geometry::Sphere;
+    use crate::geometry::leveled_box::LeveledBox;
     use crate::humanoid::{HumanoidParams, generate_humanoid};
     use crate::mesh::EdgeDedup;
     use crate::sphere_tree::BuildParams;
@@ -1029,6 +1154,101 @@ mod tests {
                     sum(sj)
                 );
             });
+        }
+    }
+
+    /// Every inner node's posed box holds its skinned vertices exactly (the
+    /// faces the box test reads, tolerance 0), under both skinning models
+    /// and both ball rules, on the stretched walk placed 1.2 km from the
+    /// origin and at the origin, for characters blending four joints a
+    /// vertex and the humanoid; and the boxes cut: at the origin nine inner
+    /// nodes in ten get a box, on average under half their sphere's cube.
+    #[test]
+    fn posed_boxes_hold_every_vertex_and_cut_the_cube() {
+        let humanoid = generate_humanoid(&HumanoidParams {
+            vertices: 3000,
+            seed: 2,
+        })
+        .unwrap();
+        let characters = [four_influences(3), four_influences(8), humanoid];
+        for (ci, c) in characters.iter().enumerate() {
+            let sets_of = |t: &CharacterTree| VertexSets::new(&t.tree, &c.mesh);
+            for model in [SkinningModel::Linear, SkinningModel::Paper] {
+                for rule in [RefitRule::BlendedBalls, RefitRule::JointBalls] {
+                    let keep = EdgeDedup::keep_all(&c.mesh);
+                    let t =
+                        CharacterTree::build_with_rule(c, &keep, model, BuildParams::WIDE, rule);
+                    let sets = sets_of(&t);
+                    let mut b = PoseBuffers::new(c);
+                    let (mut boxed, mut inner, mut fill) = (0usize, 0usize, 0.0f64);
+                    for step in 0..6 {
+                        pose_stretched_far_away(c, &mut b, step as f32 / 6.0);
+                        if step % 2 == 1 {
+                            // Back near the origin.
+                            b.place(&Matrix4::new_translation(&Vector3::new(
+                                -1234.5, 20.25, -3.0,
+                            )));
+                        }
+                        b.skin_all(c, model);
+                        let mut state = RefitState::new(&t, c.skeleton.len());
+                        state.begin_frame_with_base(&b.skin, &b.base);
+                        let mut r = Refitter {
+                            tree: &t,
+                            skin: &b.skin,
+                            state: &mut state,
+                        };
+                        r.refit_all(&b.base);
+                        for i in 0..t.tree.len() {
+                            let id = NodeId(i as u32);
+                            if t.tree.node(id).is_leaf() {
+                                continue;
+                            }
+                            // Counted at the origin (1.2 km away an `f32`
+                            // face is about a node's size: no box).
+                            let near = step % 2 == 1;
+                            inner += near as usize;
+                            let s = r.state.spheres[i];
+                            let q = r.node_box(id);
+                            if q == LeveledBox::CUBE {
+                                continue;
+                            }
+                            let (lo, hi) = q.faces(&s);
+                            if near {
+                                boxed += 1;
+                                let side = 2.0 * f64::from(s.radius);
+                                fill += (0..3)
+                                    .map(|k| f64::from(hi[k] - lo[k]) / side)
+                                    .product::<f64>();
+                            }
+                            for &v in sets.of(i) {
+                                let p = b.positions[v as usize];
+                                for k in 0..3 {
+                                    assert!(
+                                        lo[k] <= p[k] && p[k] <= hi[k],
+                                        "character {ci} {model:?} {rule:?} step {step} node {i}: \
+                                         vertex {v} at {} outside {}..{} on axis {k}",
+                                        p[k],
+                                        lo[k],
+                                        hi[k]
+                                    );
+                                }
+                            }
+                        }
+                    }
+                    let mean = fill / boxed as f64;
+                    eprintln!(
+                        "character {ci} {model:?} {rule:?}: {boxed} boxes of {inner} nodes, filling {mean:.2} of the cube"
+                    );
+                    assert!(
+                        10 * boxed > 9 * inner,
+                        "character {ci}: {boxed} boxes of {inner} nodes"
+                    );
+                    assert!(
+                        mean < 0.7,
+                        "character {ci} {model:?} {rule:?}: boxes fill {mean:.2} of the cube"
+                    );
+                }
+            }
         }
     }
 

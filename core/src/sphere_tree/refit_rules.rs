@@ -6,8 +6,8 @@
 use crate::character::skinning::{LINEAR_ROUNDINGS, PAPER_ROUNDINGS};
 use crate::character::{Character, JointId, Skeleton, SkinningModel};
 use crate::choice::{Choice, UnknownName, parse_choice, show};
-use crate::geometry::Point;
 use crate::geometry::enclosing::{points_sphere, round_up};
+use crate::geometry::{Point, bounds_of};
 
 use super::containment::VertexSets;
 use super::node::{NodeId, SphereTree};
@@ -257,6 +257,30 @@ pub(super) struct JointBall {
     pub(super) joint: u16,
 }
 
+/// A rest box of a ball rule's node: the bind vertices of the node that
+/// slot joint `joint` moves lie in `lo..=hi` (their extent: `f32`
+/// coordinates, exact).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct JointBox {
+    pub(super) lo: Point,
+    pub(super) hi: Point,
+    pub(super) joint: u16,
+}
+
+/// A ball rule's node's rest boxes, one per slot joint: the first here
+/// (one cache line holds two nodes', read by node index), the other
+/// `more` at `RefitData::more_boxes[start..]`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct NodeBoxes {
+    pub(super) lo: Point,
+    pub(super) hi: Point,
+    pub(super) joint: u16,
+    pub(super) more: u16,
+    pub(super) start: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<NodeBoxes>() == 32);
+
 /// Refit rules for every node of a character tree.
 #[derive(Clone, Debug, Default)]
 pub struct RefitData {
@@ -268,6 +292,12 @@ pub struct RefitData {
     pub(super) weights: Vec<f64>,
     /// Rest balls of [`Rule::JointBalls`] nodes, node after node.
     pub(super) balls: Vec<JointBall>,
+    /// Each node's rest boxes, one per slot joint (the ball rules; empty
+    /// for the corner rule), moved into the node's posed box when a
+    /// traversal first asks for it in a frame.
+    pub(super) node_boxes: Vec<NodeBoxes>,
+    /// The boxes after each node's first.
+    pub(super) more_boxes: Vec<JointBox>,
     /// Most slots any node has (sizes the per-frame scratch).
     pub(super) max_slots: usize,
     /// Most corners any node has (sizes the per-frame scratch).
@@ -354,7 +384,22 @@ impl RefitData {
             let reach = round_up(rest.center.coords.map(|x| x as f64).norm() + rest.radius as f64);
             if let Some(sets) = &vertex_sets {
                 let vertices = sets.of(i);
-                let balls = rest_balls(character, model, vertices);
+                let (balls, boxes) = rest_balls_and_boxes(character, model, vertices);
+                // A node without a vertex (none is built) would get an
+                // empty box, whose posed box is the whole cube.
+                let first = boxes.first().copied().unwrap_or(JointBox {
+                    lo: Point::new(f32::INFINITY, f32::INFINITY, f32::INFINITY),
+                    hi: Point::new(f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY),
+                    joint: BASE,
+                });
+                data.node_boxes.push(NodeBoxes {
+                    lo: first.lo,
+                    hi: first.hi,
+                    joint: first.joint,
+                    more: boxes.len().saturating_sub(1) as u16,
+                    start: data.more_boxes.len() as u32,
+                });
+                data.more_boxes.extend(boxes.iter().skip(1));
                 if rule == RefitRule::BlendedBalls {
                     let summary = WeightSummary::of_vertices(character, model, vertices);
                     let corners = corners_of(&summary, &mut corner_sum_error);
@@ -494,7 +539,11 @@ impl RefitData {
 /// Per slot joint of the bind vertices `vertices`, the minimal ball of the
 /// ones it moves (non-zero weight; the paper's model: the vertex's joint if
 /// `w > 0`, its parent or the base frame if `w < 1`), by joint.
-fn rest_balls(character: &Character, model: SkinningModel, vertices: &[u32]) -> Vec<JointBall> {
+fn rest_balls_and_boxes(
+    character: &Character,
+    model: SkinningModel,
+    vertices: &[u32],
+) -> (Vec<JointBall>, Vec<JointBox>) {
     let bind = character.mesh.positions();
     let mut moved: Vec<(u16, u32)> = Vec::new();
     for &v in vertices {
@@ -531,13 +580,18 @@ fn rest_balls(character: &Character, model: SkinningModel, vertices: &[u32]) -> 
                 .iter()
                 .map(|p| crate::geometry::sphere::distance_f64(p, &s.center))
                 .fold(s.radius as f64, f64::max);
-            JointBall {
-                center: s.center,
-                radius: round_up(r),
-                joint: group[0].0,
-            }
+            let joint = group[0].0;
+            let (lo, hi) = bounds_of(points.iter().copied()).expect("a group has a vertex");
+            (
+                JointBall {
+                    center: s.center,
+                    radius: round_up(r),
+                    joint,
+                },
+                JointBox { lo, hi, joint },
+            )
         })
-        .collect()
+        .unzip()
 }
 
 impl WeightSummary {

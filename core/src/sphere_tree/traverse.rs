@@ -8,6 +8,7 @@
 //! pairs of overlapping leaves go to the narrow-phase callback.
 
 use crate::geometry::Sphere;
+use crate::geometry::leveled_box::{LeveledBox, leveled_boxes_meet};
 use crate::prefetch::prefetch_at;
 
 use super::node::{Node, NodeId, SphereTree};
@@ -39,6 +40,19 @@ pub trait Hierarchy {
     fn refit_ticks(&self) -> u64 {
         0
     }
+    /// Whether the nodes carry boxes ([`Hierarchy::node_box`]): where both
+    /// hierarchies do, a pair whose spheres meet is dropped if their boxes
+    /// do not.
+    const BOXES: bool = false;
+    /// Node `id`'s box this frame, in levels around its sphere (asked only
+    /// after [`Hierarchy::sphere`] for `id`); by default the whole cube.
+    #[inline]
+    fn node_box(&mut self, _id: NodeId) -> LeveledBox {
+        LeveledBox::CUBE
+    }
+    /// Like [`Hierarchy::prefetch`] for what [`Hierarchy::node_box`] reads.
+    #[inline]
+    fn prefetch_box(&self, _id: NodeId) {}
 }
 
 impl Hierarchy for SphereTree {
@@ -118,6 +132,9 @@ pub struct TraversalStats {
     pub sphere_tests: u64,
     /// Overlapping leaf pairs handed to the narrow phase.
     pub leaf_pairs: u64,
+    /// Box-box tests made, after a sphere test passed, where both
+    /// hierarchies carry boxes ([`Hierarchy::BOXES`]).
+    pub box_tests: u64,
     /// Deepest the stack went.
     pub max_stack: usize,
 }
@@ -373,6 +390,13 @@ where
                         if !sc.overlaps(&sb) {
                             continue;
                         }
+                        if A::BOXES && B::BOXES {
+                            stats.box_tests += 1;
+                            if !leveled_boxes_meet(&a.node_box(NodeId(c)), &sc, &b.node_box(j), &sb)
+                            {
+                                continue;
+                            }
+                        }
                         let key = if O::ORDERED { order.key(&sc) } else { 0.0 };
                         if (!O::ORDERED || order.keep(key)) && guard(NodeId(c), j, &sc) {
                             ws.stack.push(Pending {
@@ -394,6 +418,10 @@ where
                         b.tested(NodeId(c));
                         let sc = b.sphere(NodeId(c));
                         if sa.overlaps(&sc)
+                            && (!(A::BOXES && B::BOXES) || {
+                                stats.box_tests += 1;
+                                leveled_boxes_meet(&a.node_box(i), &sa, &b.node_box(NodeId(c)), &sc)
+                            })
                             && (!O::ORDERED || order.keep(key))
                             && guard(i, NodeId(c), &sa)
                         {
@@ -458,6 +486,9 @@ fn prefetch_next<A, B>(
     if nb.is_leaf() || (!na.is_leaf() && ra >= rb) {
         for c in na.children() {
             a.prefetch(NodeId(c));
+            if A::BOXES && B::BOXES {
+                a.prefetch_box(NodeId(c));
+            }
         }
         // The children's pairs with the leaf `j` will look their marks up
         // when popped, right after being pushed: too soon to load them then.
@@ -468,6 +499,9 @@ fn prefetch_next<A, B>(
     } else {
         for c in nb.children() {
             b.prefetch(NodeId(c));
+            if A::BOXES && B::BOXES {
+                b.prefetch_box(NodeId(c));
+            }
         }
     }
 }
