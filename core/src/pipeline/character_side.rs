@@ -177,6 +177,11 @@ impl<const TIMED: bool> Hierarchy for TimedRefit<'_, TIMED> {
     }
 
     #[inline]
+    fn has_boxes(&self) -> bool {
+        self.refitter.state.has_boxes()
+    }
+
+    #[inline]
     fn prefetch_box(&self, id: NodeId) {
         self.refitter.prefetch_box(id);
     }

@@ -326,6 +326,11 @@ impl RefitState {
         }
     }
 
+    /// Whether the tree's rule keeps posed node boxes (the ball rules).
+    pub fn has_boxes(&self) -> bool {
+        !self.boxes.is_empty()
+    }
+
     /// Whether node `id`'s sphere has been asked for (and so refit) this
     /// frame. A node refit ahead and not asked for is not fresh.
     pub fn is_fresh(&self, id: NodeId) -> bool {

@@ -50,6 +50,12 @@ pub trait Hierarchy {
     fn node_box(&mut self, _id: NodeId) -> LeveledBox {
         LeveledBox::CUBE
     }
+    /// Whether this hierarchy's nodes have boxes now (with
+    /// [`Hierarchy::BOXES`]: a tree whose rule keeps them).
+    #[inline]
+    fn has_boxes(&self) -> bool {
+        Self::BOXES
+    }
     /// Like [`Hierarchy::prefetch`] for what [`Hierarchy::node_box`] reads.
     #[inline]
     fn prefetch_box(&self, _id: NodeId) {}
@@ -314,6 +320,8 @@ where
     }
     ws.stack.clear();
     ws.keys.clear();
+    // Pairs met by their boxes too, where both sides keep boxes.
+    let boxes = A::BOXES && B::BOXES && a.has_boxes() && b.has_boxes();
     stats.sphere_tests += 1;
     a.tested(start.0);
     b.tested(start.1);
@@ -390,7 +398,7 @@ where
                         if !sc.overlaps(&sb) {
                             continue;
                         }
-                        if A::BOXES && B::BOXES {
+                        if boxes {
                             stats.box_tests += 1;
                             if !leveled_boxes_meet(&a.node_box(NodeId(c)), &sc, &b.node_box(j), &sb)
                             {
@@ -406,7 +414,7 @@ where
                             if O::ORDERED {
                                 ws.keys.push(key);
                             }
-                            prefetch_next(a, b, &marks, NodeId(c), j, sc.radius, sb.radius);
+                            prefetch_next(a, b, &marks, boxes, NodeId(c), j, sc.radius, sb.radius);
                         }
                     }
                 } else {
@@ -418,7 +426,7 @@ where
                         b.tested(NodeId(c));
                         let sc = b.sphere(NodeId(c));
                         if sa.overlaps(&sc)
-                            && (!(A::BOXES && B::BOXES) || {
+                            && (!boxes || {
                                 stats.box_tests += 1;
                                 leveled_boxes_meet(&a.node_box(i), &sa, &b.node_box(NodeId(c)), &sc)
                             })
@@ -432,7 +440,7 @@ where
                             if O::ORDERED {
                                 ws.keys.push(key);
                             }
-                            prefetch_next(a, b, &marks, i, NodeId(c), sa.radius, sc.radius);
+                            prefetch_next(a, b, &marks, boxes, i, NodeId(c), sa.radius, sc.radius);
                         }
                     }
                 }
@@ -463,13 +471,16 @@ fn leaves_let_through(tree: &SphereTree, id: NodeId) -> Option<std::ops::Range<u
 
 /// For the pair `(i, j)` just pushed, with sphere radii `ra`, `rb`: prefetches
 /// the children traversal will test when it pops the pair (the side it will
-/// open, by the rule of [`traverse_guarded`]), and `i`'s mark if the pop
-/// will look it up (`j` a leaf, with marks).
+/// open, by the rule of [`traverse_guarded`]), their rest boxes where
+/// `boxes` (both sides keep them), and `i`'s mark if the pop will look it
+/// up (`j` a leaf, with marks).
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn prefetch_next<A, B>(
     a: &A,
     b: &B,
     marks: &Option<&mut PassMarks>,
+    boxes: bool,
     i: NodeId,
     j: NodeId,
     ra: f32,
@@ -486,7 +497,7 @@ fn prefetch_next<A, B>(
     if nb.is_leaf() || (!na.is_leaf() && ra >= rb) {
         for c in na.children() {
             a.prefetch(NodeId(c));
-            if A::BOXES && B::BOXES {
+            if boxes {
                 a.prefetch_box(NodeId(c));
             }
         }
@@ -499,7 +510,7 @@ fn prefetch_next<A, B>(
     } else {
         for c in nb.children() {
             b.prefetch(NodeId(c));
-            if A::BOXES && B::BOXES {
+            if boxes {
                 b.prefetch_box(NodeId(c));
             }
         }
