@@ -204,6 +204,7 @@ fn every_method_against_brute_force() {
                             + 96 * c.tri_tri
                             + 30 * c.plane_sphere
                             + 34 * c.sphere_box
+                            + 30 * c.box_box
                     );
                 }
                 // Testing the plane on the way down only removes pairs (and,

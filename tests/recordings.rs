@@ -210,6 +210,7 @@ fn run_recording_has_the_layout_and_the_reported_values() {
         "tri_tri",
         "plane_sphere",
         "sphere_box",
+        "box_box",
         "operations",
         "refits",
         "skinned_vertices",

@@ -120,6 +120,7 @@ pub fn run_blueprint(
                 by_kind("triangle-triangle tests per kind", "tri_tri").into(),
                 by_kind("plane-sphere tests per kind", "plane_sphere").into(),
                 by_kind("sphere-box tests per kind", "sphere_box").into(),
+                by_kind("box-box tests per kind", "box_box").into(),
             ])
             .into(),
             Tabs::new([

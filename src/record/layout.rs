@@ -61,11 +61,12 @@ pub fn level_path(root: &str, level: usize) -> String {
 
 /// The counters of a frame (every kind together) logged as scalars, with
 /// their entity paths under `stats/`.
-pub const COUNTER_PATHS: [&str; 10] = [
+pub const COUNTER_PATHS: [&str; 11] = [
     "stats/tests/sphere_sphere",
     "stats/tests/tri_tri",
     "stats/tests/plane_sphere",
     "stats/tests/sphere_box",
+    "stats/tests/box_box",
     "stats/operations",
     "stats/refits",
     "stats/skinned_vertices",
@@ -75,11 +76,12 @@ pub const COUNTER_PATHS: [&str; 10] = [
 ];
 /// The counters logged per pair kind, as `stats/by_kind/<counter>/<kind>`
 /// (one time series view per counter shows the three kinds).
-pub const KIND_COUNTERS: [&str; 6] = [
+pub const KIND_COUNTERS: [&str; 7] = [
     "sphere_sphere",
     "tri_tri",
     "plane_sphere",
     "sphere_box",
+    "box_box",
     "operations",
     "pairs",
 ];

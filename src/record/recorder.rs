@@ -667,6 +667,7 @@ impl Recorder {
                 c.tri_tri as f64,
                 c.plane_sphere as f64,
                 c.sphere_box as f64,
+                c.box_box as f64,
                 c.operations() as f64,
                 c.pairs as f64,
             ];
@@ -684,6 +685,7 @@ impl Recorder {
             c.tri_tri as f64,
             c.plane_sphere as f64,
             c.sphere_box as f64,
+            c.box_box as f64,
             ops as f64,
             c.refits as f64,
             c.skinned_vertices as f64,
@@ -892,16 +894,17 @@ impl OwnedPairs {
 fn frame_report(method: &str, k: usize, t: f32, o: &StepContacts) -> String {
     let mut s = format!(
         "### {method}, frame {k} (t = {t:.3} s)\n\n\
-         | kind | sphere-sphere | triangle-triangle | plane-sphere | sphere-box | operations | pairs |\n\
-         |---|---:|---:|---:|---:|---:|---:|\n"
+         | kind | sphere-sphere | triangle-triangle | plane-sphere | sphere-box | box-box | operations | pairs |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     let row = |name: &str, c: &FrameCounters| {
         format!(
-            "| {name} | {} | {} | {} | {} | {} | {} |\n",
+            "| {name} | {} | {} | {} | {} | {} | {} | {} |\n",
             c.sphere_sphere,
             c.tri_tri,
             c.plane_sphere,
             c.sphere_box,
+            c.box_box,
             c.operations(),
             c.pairs
         )
