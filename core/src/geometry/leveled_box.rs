@@ -6,9 +6,10 @@
 //! The same idea as [`super::sphere_box::QuantizedBox`] (a static node's
 //! box, built once), with arithmetic cheap enough to run at every refit: a
 //! face at level `q` lies at `c + r·L[q]` computed in `f32`, `L` a table of
-//! 256 `f32` values from `−1` to `1`. Building checks each face with that
-//! very arithmetic (each low face at or below the geometry's least
-//! coordinate, each high face at or above its greatest, compared in `f64`),
+//! 256 `f32` values from just below `−1` to just above `1`. Building checks
+//! each face with that very arithmetic (each low face at or below the
+//! geometry's least coordinate, each high face at or above its greatest,
+//! compared in `f64`),
 //! so the box the test sees holds the geometry; the test compares two boxes'
 //! `f32` faces, exactly. A `NaN` anywhere gives the whole cube, and the
 //! cube, or a `NaN` face, never separates.
@@ -72,8 +73,8 @@ impl LeveledBox {
     /// A box of levels around `sphere` holding `min..=max` (the tightest,
     /// or a level looser where a face's `f32` rounding makes it so),
     /// clipped to the cube around `sphere` (the geometry lies in the
-    /// sphere, which the caller guarantees). A non-finite or empty extent, or an invalid sphere, gives
-    /// [`LeveledBox::CUBE`].
+    /// sphere, which the caller guarantees). A non-finite or empty extent,
+    /// or an invalid sphere, gives [`LeveledBox::CUBE`].
     #[inline]
     pub fn enclosing(min: [f64; 3], max: [f64; 3], sphere: &Sphere) -> Self {
         let r = sphere.radius;

@@ -406,7 +406,7 @@ impl RefitState {
 
 /// Room in each refit-ahead log for a tree of `nodes` nodes: an eighth of
 /// them (at least 1,024). A frame asks for a small part of a tree (that is
-/// the point of refitting on demand: the crowd's brushing walkers about 250
+/// the point of refitting on demand: the crowd's brushing walkers about 240
 /// nodes of 30,000 each); room for every node cost 240 KB an instance of a
 /// 10,000-vertex humanoid, the room its posed node boxes take instead.
 pub(super) fn ahead_log_room(nodes: usize) -> usize {
@@ -775,6 +775,12 @@ impl Refitter<'_> {
     fn posed_box(&self, id: NodeId, sphere: &Sphere) -> LeveledBox {
         let data = &self.tree.refit;
         let i = id.index();
+        let reach = match data.rules[i] {
+            Rule::JointBalls { reach, .. }
+            | Rule::BlendedBalls { reach, .. }
+            | Rule::OneBall { reach, .. } => reach,
+            _ => return LeveledBox::CUBE,
+        };
         let first = &data.node_boxes[i];
         let more = &data.more_boxes[first.start as usize..][..first.more as usize];
         let first = JointBox {
@@ -798,12 +804,6 @@ impl Refitter<'_> {
             hi = hi.sup(&(q + e));
             largest = largest.max(n);
         }
-        let reach = match data.rules[i] {
-            Rule::JointBalls { reach, .. }
-            | Rule::BlendedBalls { reach, .. }
-            | Rule::OneBall { reach, .. } => reach,
-            _ => return LeveledBox::CUBE,
-        };
         let rho = largest.frobenius * reach as f64 + largest.translation;
         let far = lo.abs().max().max(hi.abs().max());
         let pad = data.rounding * rho * (1.0 + F64_SLACK) + F64_SLACK * (far + rho);
