@@ -133,7 +133,8 @@
 //! first asks for it after the node's refit, for inner nodes only (leaves
 //! go to their triangle's own test; building their boxes cost more than it
 //! saved), and a node pair whose spheres meet is dropped when their boxes
-//! do not.
+//! do not. Leaves keep only an empty entry in the model's rest boxes (so
+//! inner nodes are found by node index), none of their joints' boxes.
 //!
 //! On demand: a node is refit the first time a traversal asks for it in a frame
 //! (a frame stamp per node). [`Refitter::refit_all`] refits everything.

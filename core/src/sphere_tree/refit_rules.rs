@@ -386,20 +386,26 @@ impl RefitData {
                 let vertices = sets.of(i);
                 let (balls, boxes) = rest_balls_and_boxes(character, model, vertices);
                 // A node without a vertex (none is built) would get an
-                // empty box, whose posed box is the whole cube.
-                let first = boxes.first().copied().unwrap_or(JointBox {
+                // empty box, whose posed box is the whole cube. A leaf's
+                // entry only keeps the inner nodes' places (a leaf is never
+                // boxed: its triangle's test follows): empty, its joints'
+                // boxes not kept.
+                let empty = JointBox {
                     lo: Point::new(f32::INFINITY, f32::INFINITY, f32::INFINITY),
                     hi: Point::new(f32::NEG_INFINITY, f32::NEG_INFINITY, f32::NEG_INFINITY),
                     joint: BASE,
-                });
+                };
+                let leaf = tree.node(NodeId(i as u32)).is_leaf();
+                let kept = if leaf { &[][..] } else { &boxes[..] };
+                let first = kept.first().copied().unwrap_or(empty);
                 data.node_boxes.push(NodeBoxes {
                     lo: first.lo,
                     hi: first.hi,
                     joint: first.joint,
-                    more: boxes.len().saturating_sub(1) as u16,
+                    more: kept.len().saturating_sub(1) as u16,
                     start: data.more_boxes.len() as u32,
                 });
-                data.more_boxes.extend(boxes.iter().skip(1));
+                data.more_boxes.extend(kept.iter().skip(1));
                 if rule == RefitRule::BlendedBalls {
                     let summary = WeightSummary::of_vertices(character, model, vertices);
                     let corners = corners_of(&summary, &mut corner_sum_error);
