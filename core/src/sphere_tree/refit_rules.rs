@@ -294,7 +294,9 @@ pub struct RefitData {
     pub(super) balls: Vec<JointBall>,
     /// Each node's rest boxes, one per slot joint (the ball rules; empty
     /// for the corner rule), moved into the node's posed box when a
-    /// traversal first asks for it in a frame.
+    /// traversal first asks for it in a frame. A leaf's entry is empty and
+    /// has no more boxes: it only keeps the inner nodes' places (a leaf is
+    /// never boxed).
     pub(super) node_boxes: Vec<NodeBoxes>,
     /// The boxes after each node's first.
     pub(super) more_boxes: Vec<JointBox>,
