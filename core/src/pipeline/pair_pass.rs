@@ -73,6 +73,6 @@ impl Pass for PairPass<'_> {
 
     /// Leaves are distinct triangles on both sides: no repeats to remove.
     fn finish(hits: &mut Vec<(u32, u32)>) {
-        hits.sort_unstable();
+        super::pass::sort_pairs(hits);
     }
 }

@@ -157,6 +157,12 @@ pub(crate) trait Pass {
     fn finish(hits: &mut Vec<Self::Hit>);
 }
 
+/// Sorts triangle pairs as [`slice::sort_unstable`] would, comparing each
+/// pair as one 64-bit key (one comparison instead of two).
+pub(crate) fn sort_pairs(hits: &mut [(u32, u32)]) {
+    hits.sort_unstable_by_key(|&(a, b)| (u64::from(a) << 32) | u64::from(b));
+}
+
 /// Runs `pass`: traversal, preparation, the leaf test of every pair; fills
 /// `hits` and returns what the pass cost. Refits and skinned vertices are
 /// counted from the pass's start.

@@ -270,7 +270,7 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
 
     /// A big triangle's leaves all name it: repeats removed.
     fn finish(hits: &mut Vec<(u32, u32)>) {
-        hits.sort_unstable();
+        super::pass::sort_pairs(hits);
         hits.dedup();
     }
 }

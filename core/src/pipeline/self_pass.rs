@@ -148,6 +148,6 @@ impl Pass for SelfPass<'_> {
 
     /// Each pair of leaves is reached once: no repeats to remove.
     fn finish(hits: &mut Vec<(u32, u32)>) {
-        hits.sort_unstable();
+        super::pass::sort_pairs(hits);
     }
 }

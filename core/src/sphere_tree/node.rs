@@ -23,6 +23,9 @@ impl NodeId {
 ///
 /// An inner node's children are `first .. first + count`; a leaf has
 /// `count == 0` and `first` is the primitive it bounds (a triangle index).
+/// The top bit of `count` marks a twig (an inner node whose children are
+/// all leaves), set by [`SphereTree::from_nodes`], so that a traversal
+/// knows a twig without reading its children.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Node {
@@ -34,11 +37,14 @@ pub struct Node {
     count: u32,
 }
 
+/// The bit of [`Node`]'s `count` that marks a twig.
+const TWIG: u32 = 1 << 31;
+
 impl Node {
     /// An inner node whose `child_count` (at least one) children are stored
     /// from `first_child` on.
     pub fn inner(sphere: Sphere, first_child: NodeId, child_count: u32) -> Self {
-        debug_assert!(child_count > 0);
+        assert!(child_count > 0 && child_count < TWIG);
         Self {
             sphere,
             first: first_child.0,
@@ -73,14 +79,21 @@ impl Node {
         if self.is_leaf() {
             0..0
         } else {
-            self.first..self.first + self.count
+            self.first..self.first + (self.count & !TWIG)
         }
     }
 
     /// Number of children (0 for a leaf).
     #[inline]
     pub fn child_count(&self) -> u32 {
-        self.count
+        self.count & !TWIG
+    }
+
+    /// Whether the node is inner and its children are all leaves (known
+    /// once the node is in a [`SphereTree`]).
+    #[inline]
+    pub fn is_twig(&self) -> bool {
+        self.count & TWIG != 0
     }
 }
 
@@ -93,7 +106,22 @@ pub struct SphereTree {
 impl SphereTree {
     /// Wraps nodes laid out as the module invariants require (see
     /// [`SphereTree::validate`]).
-    pub fn from_nodes(nodes: Vec<Node>) -> Self {
+    /// Marks the twigs (see [`Node::is_twig`]).
+    pub fn from_nodes(mut nodes: Vec<Node>) -> Self {
+        for i in 0..nodes.len() {
+            let n = nodes[i];
+            let kids = n.children();
+            let twig = !n.is_leaf()
+                && (kids.end as usize) <= nodes.len()
+                && nodes[kids.start as usize..kids.end as usize]
+                    .iter()
+                    .all(Node::is_leaf);
+            nodes[i].count = if twig {
+                n.count | TWIG
+            } else {
+                n.count & !TWIG
+            };
+        }
         Self { nodes }
     }
 
@@ -202,5 +230,28 @@ mod tests {
     #[test]
     fn node_is_compact() {
         assert_eq!(std::mem::size_of::<Node>(), 24);
+    }
+
+    #[test]
+    fn twigs_are_the_inner_nodes_whose_children_are_all_leaves() {
+        let s = Sphere::new(crate::geometry::Point::origin(), 1.0);
+        // 0 → {1, 2}; 1 → {3, 4} (a twig); 2 → {5} and 5 → {6} (2 is not a
+        // twig, 5 is); 3, 4, 6 leaves.
+        let tree = SphereTree::from_nodes(vec![
+            Node::inner(s, NodeId(1), 2),
+            Node::inner(s, NodeId(3), 2),
+            Node::inner(s, NodeId(5), 1),
+            Node::leaf(s, 0),
+            Node::leaf(s, 1),
+            Node::inner(s, NodeId(6), 1),
+            Node::leaf(s, 2),
+        ]);
+        let twigs: Vec<bool> = tree.nodes().iter().map(Node::is_twig).collect();
+        assert_eq!(twigs, [false, true, false, false, false, true, false]);
+        // The mark changes neither the children nor their count.
+        assert_eq!(tree.node(NodeId(1)).children(), 3..5);
+        assert_eq!(tree.node(NodeId(1)).child_count(), 2);
+        assert_eq!(tree.node(NodeId(5)).children(), 6..7);
+        assert_eq!(tree.node(NodeId(0)).children(), 1..3);
     }
 }

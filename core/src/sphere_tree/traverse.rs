@@ -462,11 +462,7 @@ fn leaves_let_through(tree: &SphereTree, id: NodeId) -> Option<std::ops::Range<u
     if n.is_leaf() {
         return Some(id.0..id.0 + 1);
     }
-    let kids = n.children();
-    tree.nodes()[kids.start as usize..kids.end as usize]
-        .iter()
-        .all(Node::is_leaf)
-        .then_some(kids)
+    n.is_twig().then(|| n.children())
 }
 
 /// For the pair `(i, j)` just pushed, with sphere radii `ra`, `rb`: prefetches
