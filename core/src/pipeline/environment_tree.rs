@@ -71,6 +71,11 @@ pub struct EnvironmentTree {
     pub big: Vec<bool>,
     /// Whether a division stopped at the level cap somewhere.
     pub capped: bool,
+    /// Whether every division is one leaf (its whole big triangle, as
+    /// [`Method::UndividedPrunedTriTri`] leaves it): then no (character
+    /// triangle, big triangle) pair is reached twice in one traversal, and
+    /// the repeat marks are not needed ([`Self::groups_are_single_leaves`]).
+    single_leaf_divisions: bool,
     /// Each node's box of its triangles, for the methods that test each
     /// pair once ([`Self::plane_prism_guard`]); empty for the others.
     boxes: NodeBoxes,
@@ -101,6 +106,7 @@ impl EnvironmentTree {
                 prisms: vec![],
                 big,
                 capped: false,
+                single_leaf_divisions: true,
             };
         };
         let mut divisions = Vec::new();
@@ -118,6 +124,7 @@ impl EnvironmentTree {
             }
         }
         let capped = divisions.iter().any(|d| d.capped);
+        let single_leaf_divisions = divisions.iter().all(|d| d.tree.len() == 1);
 
         // Breadth-first graft: a base leaf of a big triangle continues into its
         // division (whose root replaces the leaf).
@@ -193,6 +200,7 @@ impl EnvironmentTree {
             prisms,
             big,
             capped,
+            single_leaf_divisions,
         }
     }
 
@@ -315,6 +323,18 @@ impl EnvironmentTree {
     #[inline]
     pub fn is_division_leaf(&self, id: NodeId) -> bool {
         self.leaf_division[id.index()] != NOT_A_DIVISION_LEAF
+    }
+
+    /// Whether every big triangle's division is a single leaf. A traversal
+    /// reaches each pair of nodes at most once (the side it opens is a
+    /// function of the pair, so the path from the roots to a pair is
+    /// unique); with one leaf per big triangle, each (character triangle,
+    /// big triangle) pair is then reached at most once, and neither the
+    /// group marks of `sphere_tree::grouped` nor the narrow phase's repeat
+    /// marks can drop anything.
+    #[inline]
+    pub fn groups_are_single_leaves(&self) -> bool {
+        self.single_leaf_divisions
     }
 
     /// Whether `method` answers a leaf pair whose second leaf is `leaf` of

@@ -134,11 +134,12 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
         let push = |p| leaf_pairs.push(p);
         let stats = if self.method.tests_each_pair_once() {
             let guard = body.plane_prism_guard(&mut plane_tests, &mut box_tests);
+            let marks = (!body.groups_are_single_leaves()).then_some(&mut self.marks.groups);
             traverse_grouped(
                 &mut a,
                 &mut b,
                 ws,
-                &mut self.marks.groups,
+                marks,
                 |j| body.leaf_group(j),
                 guard,
                 push,
@@ -204,6 +205,7 @@ impl<F: Frame, L: VisitLog> Pass for RigidPass<'_, F, L> {
         let p = leaf_pairs[k];
         let (body, method) = (self.body, self.method);
         if method.tests_each_pair_once()
+            && !body.groups_are_single_leaves()
             && body.is_division_leaf(p.leaf_b)
             && !first_time(&mut self.marks.repeats, &p)
         {

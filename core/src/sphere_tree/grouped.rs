@@ -46,12 +46,15 @@ use crate::geometry::Sphere;
 
 /// [`traverse_guarded`](super::traverse_guarded) where `group(j)` gives, for
 /// a leaf `j` of `b` that belongs to a group, the group's index and a sphere
-/// holding all of its leaves' primitives (see the module doc).
+/// holding all of its leaves' primitives (see the module doc). `marks`
+/// drops a sphere's later pairs with a group's other leaves; without them
+/// (`None`: for groups of one leaf each, where no pair can come twice)
+/// every pair is descended.
 pub fn traverse_grouped<A, B, K, G, F>(
     a: &mut A,
     b: &mut B,
     ws: &mut Workspace,
-    marks: &mut PassMarks,
+    marks: Option<&mut PassMarks>,
     group: K,
     guard: G,
     on_leaf_pair: F,
@@ -69,7 +72,7 @@ where
         b,
         ws,
         ROOTS,
-        Some(marks),
+        marks,
         group,
         &AsTested,
         |_, j, s| guard(j, s),
@@ -187,7 +190,7 @@ pub(super) mod tests {
                 &mut seen,
                 &mut tb2,
                 &mut ws,
-                &mut marks,
+                Some(&mut marks),
                 |j| prims[j.index()].map(|p| (group_of(p), spheres[group_of(p) as usize])),
                 |_, _| true,
                 |p| {
@@ -203,6 +206,46 @@ pub(super) mod tests {
                 0,
                 "seed {seed}: leaves or twigs of `a` refit for a group"
             );
+        }
+    }
+
+    /// Each leaf of `b` its own group and no marks (as for big triangles
+    /// left whole): no pair of primitives is handed on twice, and every
+    /// pair plain traversal reaches is handed on.
+    #[test]
+    fn one_leaf_groups_without_marks_repeat_and_lose_nothing() {
+        for seed in 0..40u64 {
+            let ma = soup(seed, 60, 1.0, 0.2);
+            let mb = soup(seed + 2000, 80, 1.0, 0.3);
+            let (mut ta, mut tb) = (tree(&ma), tree(&mb));
+            let mut ws = Workspace::new();
+            let mut plain = BTreeSet::new();
+            traverse(&mut ta, &mut tb, &mut ws, |p| {
+                plain.insert((p.primitive_a, p.primitive_b));
+            });
+            let groups: Vec<Option<(u32, Sphere)>> = tb
+                .nodes()
+                .iter()
+                .map(|n| n.primitive().map(|p| (p, n.sphere)))
+                .collect();
+            let mut handed = Vec::new();
+            traverse_grouped(
+                &mut ta,
+                &mut tb,
+                &mut ws,
+                None,
+                |j| groups[j.index()],
+                |_, _| true,
+                |p| handed.push((p.primitive_a, p.primitive_b)),
+            );
+            let once: BTreeSet<(u32, u32)> = handed.iter().copied().collect();
+            assert_eq!(
+                once.len(),
+                handed.len(),
+                "seed {seed}: a pair handed on twice"
+            );
+            let lost: Vec<_> = plain.difference(&once).collect();
+            assert!(lost.is_empty(), "seed {seed}: lost {lost:?}");
         }
     }
 

@@ -345,12 +345,15 @@ where
         }
         let na: Node = *a.tree().node(i);
         let nb: Node = *b.tree().node(j);
-        let grouped = match marks.as_deref_mut() {
-            Some(m) if nb.is_leaf() => match group(j) {
-                Some((g, _)) if !m.first_time(i.0, g) => continue,
+        let grouped = if nb.is_leaf() {
+            match group(j) {
+                Some((g, _)) if marks.as_deref_mut().is_some_and(|m| !m.first_time(i.0, g)) => {
+                    continue;
+                }
                 found => found,
-            },
-            _ => None,
+            }
+        } else {
+            None
         };
         match (na.primitive(), nb.primitive()) {
             (Some(pa), Some(pb)) => {
