@@ -285,12 +285,13 @@ fn sort_pushed(ws: &mut Workspace, from: usize) {
 /// The traversal behind [`traverse_guarded`],
 /// [`super::grouped::traverse_grouped`] and
 /// [`super::self_traverse::traverse_self`], from the pair `start` (node
-/// `start.0` of `a`, `start.1` of `b`; [`ROOTS`] for two whole trees): with
-/// `marks`, a leaf `j` of `b` for which `group(j)` names a group descends
-/// each sphere of `a` once per group, against the group's sphere, and
-/// `a`'s leaves under it go to `on_leaf_pair` without a sphere of their
-/// own (see [`super::grouped`]); without, no leaf is grouped. `guard(i, j, s)` is
-/// asked of every pair `(i, j)` pushed, with `s` the sphere of `i`.
+/// `start.0` of `a`, `start.1` of `b`; [`ROOTS`] for two whole trees): a
+/// leaf `j` of `b` for which `group(j)` names a group is met by the group's
+/// sphere, and `a`'s leaves and twigs' leaves under it go to
+/// `on_leaf_pair` without a sphere of their own (see [`super::grouped`]);
+/// with `marks`, each sphere of `a` is descended once per group.
+/// `guard(i, j, s)` is asked of every pair `(i, j)` pushed, with `s` the
+/// sphere of `i`.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn traverse_core<A, B, K, O, G, F>(
     a: &mut A,
