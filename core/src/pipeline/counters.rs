@@ -1,6 +1,8 @@
 //! What a pass costs: tests by kind (the paper's operation model, §6),
 //! refits, skinned vertices, pairs, and milliseconds per stage.
 
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use crate::geometry::ops;
@@ -93,10 +95,50 @@ impl FrameCounters {
     }
 }
 
-/// Milliseconds since `t0`.
+/// Milliseconds since `t0`, a [`ticks`] reading.
 #[inline]
-pub(crate) fn ms_since(t0: Instant) -> f64 {
-    t0.elapsed().as_secs_f64() * 1e3
+pub(crate) fn ms_since(t0: u64) -> f64 {
+    ticks().wrapping_sub(t0) as f64 * ms_per_tick()
+}
+
+/// Milliseconds a [`ticks`] unit lasts: measured against the system's
+/// monotonic clock over the first 0.2 ms of its first use (a one-time
+/// wait), then over all the time since, each time [`refine_tick_rate`] is
+/// called. A pass reads the clock four to eight times; the time-stamp
+/// counter is read in a few nanoseconds where `Instant::now` takes about
+/// 23 ns here, a few per cent of a thousand-character frame of short passes
+/// (docs/performance-journal.md, "Deep contact's narrow phase").
+#[inline]
+pub(crate) fn ms_per_tick() -> f64 {
+    f64::from_bits(TICK_MS.load(Ordering::Relaxed)).max(tick_origin().2)
+}
+
+/// Measures [`ms_per_tick`] again over the time since the first use
+/// (a step calls it once).
+pub(crate) fn refine_tick_rate() {
+    let (t0, k0, _) = *tick_origin();
+    let (ms, k) = (t0.elapsed().as_secs_f64() * 1e3, ticks().wrapping_sub(k0));
+    if ms > 1.0 && k > 0 {
+        TICK_MS.store((ms / k as f64).to_bits(), Ordering::Relaxed);
+    }
+}
+
+/// The latest [`ms_per_tick`] measured over more than a millisecond (bits
+/// of an `f64`; 0 before).
+static TICK_MS: AtomicU64 = AtomicU64::new(0);
+
+/// The clocks' first reading, and the rate measured over the first 0.2 ms.
+fn tick_origin() -> &'static (Instant, u64, f64) {
+    static ORIGIN: OnceLock<(Instant, u64, f64)> = OnceLock::new();
+    ORIGIN.get_or_init(|| {
+        let (t0, k0) = (Instant::now(), ticks());
+        let mut ms = 0.0;
+        while ms < 0.2 {
+            ms = t0.elapsed().as_secs_f64() * 1e3;
+        }
+        let k = ticks().wrapping_sub(k0).max(1);
+        (t0, k0, ms / k as f64)
+    })
 }
 
 /// The CPU's time-stamp counter (x86_64), or nanoseconds elsewhere: what
@@ -110,7 +152,6 @@ pub(crate) fn ticks() -> u64 {
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        use std::sync::OnceLock;
         static START: OnceLock<Instant> = OnceLock::new();
         START.get_or_init(Instant::now).elapsed().as_nanos() as u64
     }

@@ -19,12 +19,10 @@
 //! and what the pass refit and skinned, and sizes its buffers once: after
 //! the first frame a pass allocates nothing.
 
-use std::time::Instant;
-
 use crate::sphere_tree::traverse::{LeafPair, TraversalStats};
 use crate::sphere_tree::{PassMarks, Workspace};
 
-use super::counters::{FrameCounters, ms_since, ticks};
+use super::counters::{FrameCounters, ms_per_tick, ticks};
 use super::prepared_triangles::PreparedTriangles;
 
 /// What one traversal found and cost.
@@ -176,11 +174,13 @@ pub(crate) fn run<P: Pass>(
     // A hit list never used before (its slot's first pass).
     let first_use = hits.capacity() == 0;
 
+    // Stage clocks: time-stamp counter readings, each stage's end the next
+    // one's start.
     let clock = pass.times_stages();
-    let now = || clock.then(Instant::now);
-    let since = |t: Option<Instant>| t.map_or(0.0, ms_since);
+    let now = || if clock { ticks() } else { 0 };
+    let rate = if clock { ms_per_tick() } else { 0.0 };
+    let ms = |from: u64, to: u64| to.wrapping_sub(from) as f64 * rate;
     let t0 = now();
-    let tick0 = if clock { ticks() } else { 0 };
     scratch.leaf_pairs.clear();
     let (ws, leaf_pairs) = (&mut scratch.workspace, &mut scratch.leaf_pairs);
     let timed = pass.timed();
@@ -189,9 +189,10 @@ pub(crate) fn run<P: Pass>(
     } else {
         pass.traverse::<false>(ws, leaf_pairs)
     };
-    let elapsed = since(t0);
+    let t1 = now();
+    let elapsed = ms(t0, t1);
     if timed && clock {
-        let total_ticks = ticks().wrapping_sub(tick0).max(1);
+        let total_ticks = t1.wrapping_sub(t0).max(1);
         c.time.refit_ms = elapsed * (tr.refit_ticks as f64 / total_ticks as f64).min(1.0);
         c.time.traversal_ms = elapsed - c.time.refit_ms;
     } else {
@@ -203,11 +204,10 @@ pub(crate) fn run<P: Pass>(
     c.box_box = tr.stats.box_tests;
     c.tri_tri = tr.leaf_tests;
 
-    let t0 = now();
     pass.prepare(&scratch.leaf_pairs);
-    c.time.skinning_ms = since(t0);
+    let t2 = now();
+    c.time.skinning_ms = ms(t1, t2);
 
-    let t0 = now();
     hits.clear();
     pass.begin_narrow();
     let [a, b] = &mut scratch.prepared;
@@ -237,6 +237,6 @@ pub(crate) fn run<P: Pass>(
     if first_use {
         hits.reserve((2 * found).max(64));
     }
-    c.time.narrow_ms = since(t0);
+    c.time.narrow_ms = ms(t2, now());
     c
 }

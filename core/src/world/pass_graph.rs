@@ -22,7 +22,8 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::sync::Mutex;
-use std::time::Instant;
+
+use crate::pipeline::counters::{ms_since, ticks};
 
 /// A frame's passes: `characters` passes `0..n` (each character against the
 /// room and objects), then one pass per character pair.
@@ -278,9 +279,9 @@ impl PassGraph {
                 continue;
             };
             idle = 0;
-            let t0 = Instant::now();
+            let t0 = ticks();
             run(t, self.pair(t));
-            let s = t0.elapsed().as_secs_f32();
+            let s = (ms_since(t0) * 1e-3) as f32;
             let mut st = self.state.lock().expect("no pass panicked");
             self.finish(&mut st, t, s);
             next = self.take(&mut st, total);
@@ -391,6 +392,7 @@ fn workers(n: usize, worker: &(impl Fn() + Sync)) {
 mod tests {
     use super::*;
     use std::sync::Mutex as StdMutex;
+    use std::time::Instant;
 
     fn pool(threads: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()

@@ -36,6 +36,7 @@ use crate::geometry::Sphere;
 use crate::pipeline::FrameCounters;
 use crate::pipeline::Identity;
 use crate::pipeline::character_side::CharacterSide;
+use crate::pipeline::counters::{ms_since, refine_tick_rate, ticks};
 use crate::pipeline::pair_pass::PairPass;
 use crate::pipeline::pass::run;
 use crate::pipeline::rigid_pass::RigidPass;
@@ -54,6 +55,7 @@ impl CollisionWorld {
     /// root sphere meets, on the current rayon pool.
     pub fn step(&mut self) -> &StepContacts {
         let t0 = Instant::now();
+        refine_tick_rate();
         // Objects' root spheres in the world.
         for (root, o) in self.object_roots.iter_mut().zip(&self.objects) {
             *root = (o.active && !o.tree.tree.is_empty()).then(|| {
@@ -66,7 +68,7 @@ impl CollisionWorld {
         //    few dozen spheres; the room pass counts them, from the step's
         //    start, and would refit them first anyway).
         side_by_side(&mut self.characters, |c| {
-            let t0 = Instant::now();
+            let t0 = ticks();
             let c = c.get_mut().expect("no pass panicked");
             if !c.active {
                 c.sit_out_step();
@@ -74,7 +76,7 @@ impl CollisionWorld {
             }
             c.begin_step_frame();
             c.own.root = side(c).root_sphere();
-            c.own.start_seconds = t0.elapsed().as_secs_f32();
+            c.own.start_seconds = (ms_since(t0) * 1e-3) as f32;
         });
 
         // 2. The broad phase between characters' root spheres.
@@ -291,9 +293,9 @@ fn own_passes(
     // Last step's nodes first, when the method refits ahead (timed only
     // then: two clock reads the other methods need not pay).
     let ahead_ms = if c.refit.refits_ahead_on() {
-        let t0 = Instant::now();
+        let t0 = ticks();
         side(c).refit_ahead();
-        t0.elapsed().as_secs_f64() * 1e3
+        ms_since(t0)
     } else {
         0.0
     };

@@ -86,6 +86,7 @@ impl CollisionWorld {
     /// step: it records the poses and finds nothing.
     pub fn sweep(&mut self) -> Result<&SweepContacts, WorldError> {
         let t0 = Instant::now();
+        crate::pipeline::counters::refine_tick_rate();
         let cull_rigid = self.settings.self_rigid_culling;
         let CollisionWorld {
             method,
