@@ -95,10 +95,12 @@ impl FrameCounters {
     }
 }
 
-/// Milliseconds since `t0`, a [`ticks`] reading.
+/// Milliseconds since `t0`, a [`ticks`] reading (0 should the counter
+/// read lower than `t0`, as it could on a machine whose cores' counters
+/// are not kept in step).
 #[inline]
 pub(crate) fn ms_since(t0: u64) -> f64 {
-    ticks().wrapping_sub(t0) as f64 * ms_per_tick()
+    ticks().saturating_sub(t0) as f64 * ms_per_tick()
 }
 
 /// Milliseconds a [`ticks`] unit lasts: measured against the system's
@@ -117,7 +119,7 @@ pub(crate) fn ms_per_tick() -> f64 {
 /// (a step calls it once).
 pub(crate) fn refine_tick_rate() {
     let (t0, k0, _) = *tick_origin();
-    let (ms, k) = (t0.elapsed().as_secs_f64() * 1e3, ticks().wrapping_sub(k0));
+    let (ms, k) = (t0.elapsed().as_secs_f64() * 1e3, ticks().saturating_sub(k0));
     if ms > 1.0 && k > 0 {
         TICK_MS.store((ms / k as f64).to_bits(), Ordering::Relaxed);
     }
@@ -136,7 +138,7 @@ fn tick_origin() -> &'static (Instant, u64, f64) {
         while ms < 0.2 {
             ms = t0.elapsed().as_secs_f64() * 1e3;
         }
-        let k = ticks().wrapping_sub(k0).max(1);
+        let k = ticks().saturating_sub(k0).max(1);
         (t0, k0, ms / k as f64)
     })
 }

@@ -179,7 +179,7 @@ pub(crate) fn run<P: Pass>(
     let clock = pass.times_stages();
     let now = || if clock { ticks() } else { 0 };
     let rate = if clock { ms_per_tick() } else { 0.0 };
-    let ms = |from: u64, to: u64| to.wrapping_sub(from) as f64 * rate;
+    let ms = |from: u64, to: u64| to.saturating_sub(from) as f64 * rate;
     let t0 = now();
     scratch.leaf_pairs.clear();
     let (ws, leaf_pairs) = (&mut scratch.workspace, &mut scratch.leaf_pairs);
@@ -192,7 +192,7 @@ pub(crate) fn run<P: Pass>(
     let t1 = now();
     let elapsed = ms(t0, t1);
     if timed && clock {
-        let total_ticks = t1.wrapping_sub(t0).max(1);
+        let total_ticks = t1.saturating_sub(t0).max(1);
         c.time.refit_ms = elapsed * (tr.refit_ticks as f64 / total_ticks as f64).min(1.0);
         c.time.traversal_ms = elapsed - c.time.refit_ms;
     } else {

@@ -43,6 +43,10 @@ const TWIG: u32 = 1 << 31;
 impl Node {
     /// An inner node whose `child_count` (at least one) children are stored
     /// from `first_child` on.
+    ///
+    /// # Panics
+    ///
+    /// If `child_count` is 0, or 2³¹ or more (the top bit marks a twig).
     pub fn inner(sphere: Sphere, first_child: NodeId, child_count: u32) -> Self {
         assert!(child_count > 0 && child_count < TWIG);
         Self {
