@@ -109,8 +109,8 @@ pub struct SphereTree {
 
 impl SphereTree {
     /// Wraps nodes laid out as the module invariants require (see
-    /// [`SphereTree::validate`]).
-    /// Marks the twigs (see [`Node::is_twig`]).
+    /// [`SphereTree::validate`]), and marks the twigs (see
+    /// [`Node::is_twig`]).
     pub fn from_nodes(mut nodes: Vec<Node>) -> Self {
         for i in 0..nodes.len() {
             let n = nodes[i];
